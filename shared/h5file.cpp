@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: MIT
+#include "shared/h5file.hpp"
+
+#include <hdf5.h>
+
+#include <fmt/format.h>
+
+#include "shared/input_error.hpp"
+
+namespace dld {
+namespace {
+
+void check(herr_t status, const std::string& path, const std::string& what) {
+  if (status < 0) throw InputError(fmt::format("{}: HDF5 error while {}", path, what));
+}
+
+hid_t checked_id(hid_t id, const std::string& path, const std::string& what) {
+  if (id < 0) throw InputError(fmt::format("{}: HDF5 error while {}", path, what));
+  return id;
+}
+
+struct Id {  // closes any HDF5 handle with the right function
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Id() {
+    if (id >= 0) close(id);
+  }
+};
+
+}  // namespace
+
+H5File::H5File(const std::string& path, Mode mode) : path_(path) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported through InputError
+  switch (mode) {
+    case Mode::kCreate: id_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT); break;
+    case Mode::kRead: id_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT); break;
+    case Mode::kReadWrite: id_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT); break;
+  }
+  if (id_ < 0)
+    throw InputError(fmt::format("{}: cannot {} HDF5 file", path,
+                                 mode == Mode::kCreate ? "create" : "open"));
+}
+
+H5File::~H5File() {
+  if (id_ >= 0) H5Fclose(id_);
+}
+
+H5File::H5File(H5File&& o) noexcept : id_(o.id_), path_(std::move(o.path_)) { o.id_ = -1; }
+
+H5File& H5File::operator=(H5File&& o) noexcept {
+  if (this != &o) {
+    if (id_ >= 0) H5Fclose(id_);
+    id_ = o.id_;
+    path_ = std::move(o.path_);
+    o.id_ = -1;
+  }
+  return *this;
+}
+
+bool H5File::exists(const std::string& name) const {
+  // Walk the path so that a missing intermediate group is not an error.
+  std::size_t pos = 0;
+  while ((pos = name.find('/', pos + 1)) != std::string::npos) {
+    if (H5Lexists(id_, name.substr(0, pos).c_str(), H5P_DEFAULT) <= 0) return false;
+  }
+  return H5Lexists(id_, name.c_str(), H5P_DEFAULT) > 0;
+}
+
+void H5File::make_parents(const std::string& name) {
+  std::size_t pos = 0;
+  while ((pos = name.find('/', pos + 1)) != std::string::npos) {
+    std::string g = name.substr(0, pos);
+    if (H5Lexists(id_, g.c_str(), H5P_DEFAULT) <= 0) {
+      Id gid{checked_id(H5Gcreate2(id_, g.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), path_,
+                        "creating group " + g),
+             H5Gclose};
+    }
+  }
+}
+
+namespace {
+template <typename T>
+void write_any(hid_t file, const std::string& path, const std::string& name, hid_t memtype,
+               hid_t filetype, const T* data, const std::vector<std::uint64_t>& dims) {
+  if (H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0) H5Ldelete(file, name.c_str(), H5P_DEFAULT);
+  std::vector<hsize_t> d(dims.begin(), dims.end());
+  Id space{checked_id(H5Screate_simple(static_cast<int>(d.size()), d.data(), nullptr), path,
+                      "creating dataspace"),
+           H5Sclose};
+  Id set{checked_id(H5Dcreate2(file, name.c_str(), filetype, space.id, H5P_DEFAULT, H5P_DEFAULT,
+                               H5P_DEFAULT),
+                    path, "creating dataset " + name),
+         H5Dclose};
+  check(H5Dwrite(set.id, memtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), path, "writing " + name);
+}
+}  // namespace
+
+void H5File::write(const std::string& name, const double* data, const std::vector<std::uint64_t>& dims) {
+  make_parents(name);
+  write_any(id_, path_, name, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, data, dims);
+}
+
+void H5File::write(const std::string& name, const float* data, const std::vector<std::uint64_t>& dims) {
+  make_parents(name);
+  write_any(id_, path_, name, H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, data, dims);
+}
+
+void H5File::write(const std::string& name, const std::int32_t* data,
+                   const std::vector<std::uint64_t>& dims) {
+  make_parents(name);
+  write_any(id_, path_, name, H5T_NATIVE_INT32, H5T_STD_I32LE, data, dims);
+}
+
+namespace {
+hid_t open_object(hid_t file, const std::string& path, const std::string& object) {
+  return checked_id(H5Oopen(file, object.c_str(), H5P_DEFAULT), path, "opening " + object);
+}
+void write_attr(hid_t obj, const std::string& path, const std::string& name, hid_t type,
+                const void* value) {
+  if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
+  Id space{H5Screate(H5S_SCALAR), H5Sclose};
+  Id attr{checked_id(H5Acreate2(obj, name.c_str(), type, space.id, H5P_DEFAULT, H5P_DEFAULT), path,
+                     "creating attribute " + name),
+          H5Aclose};
+  check(H5Awrite(attr.id, type, value), path, "writing attribute " + name);
+}
+}  // namespace
+
+void H5File::attribute(const std::string& object, const std::string& name, double value) {
+  if (object != "/") make_parents(object + "/x");
+  Id obj{open_object(id_, path_, object), H5Oclose};
+  write_attr(obj.id, path_, name, H5T_NATIVE_DOUBLE, &value);
+}
+
+void H5File::attribute(const std::string& object, const std::string& name, std::int64_t value) {
+  if (object != "/") make_parents(object + "/x");
+  Id obj{open_object(id_, path_, object), H5Oclose};
+  write_attr(obj.id, path_, name, H5T_NATIVE_INT64, &value);
+}
+
+void H5File::attribute(const std::string& object, const std::string& name, const std::string& value) {
+  if (object != "/") make_parents(object + "/x");
+  Id obj{open_object(id_, path_, object), H5Oclose};
+  Id type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, value.size() + 1);
+  H5Tset_strpad(type.id, H5T_STR_NULLTERM);
+  write_attr(obj.id, path_, name, type.id, value.c_str());
+}
+
+void H5File::append_row(const std::string& name, const std::vector<double>& row,
+                        const std::vector<std::string>& columns) {
+  const hsize_t width = row.size();
+  if (H5Lexists(id_, name.c_str(), H5P_DEFAULT) <= 0 || !exists(name)) {
+    make_parents(name);
+    hsize_t dims[2] = {0, width};
+    hsize_t maxd[2] = {H5S_UNLIMITED, width};
+    hsize_t chunk[2] = {256, width};
+    Id space{H5Screate_simple(2, dims, maxd), H5Sclose};
+    Id plist{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+    H5Pset_chunk(plist.id, 2, chunk);
+    Id set{checked_id(H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, plist.id,
+                                 H5P_DEFAULT),
+                      path_, "creating table " + name),
+           H5Dclose};
+    if (!columns.empty()) {
+      std::string joined;
+      for (std::size_t i = 0; i < columns.size(); ++i) joined += (i ? "," : "") + columns[i];
+      Id type{H5Tcopy(H5T_C_S1), H5Tclose};
+      H5Tset_size(type.id, joined.size() + 1);
+      write_attr(set.id, path_, "columns", type.id, joined.c_str());
+    }
+  }
+  Id set{checked_id(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), path_, "opening " + name), H5Dclose};
+  Id fspace0{H5Dget_space(set.id), H5Sclose};
+  hsize_t cur[2];
+  H5Sget_simple_extent_dims(fspace0.id, cur, nullptr);
+  if (cur[1] != width)
+    throw InputError(fmt::format("{}: table {} has {} columns, row has {}", path_, name, cur[1], width));
+  hsize_t next[2] = {cur[0] + 1, width};
+  check(H5Dset_extent(set.id, next), path_, "extending " + name);
+  Id fspace{H5Dget_space(set.id), H5Sclose};
+  hsize_t start[2] = {cur[0], 0};
+  hsize_t count[2] = {1, width};
+  H5Sselect_hyperslab(fspace.id, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  Id mspace{H5Screate_simple(2, count, nullptr), H5Sclose};
+  check(H5Dwrite(set.id, H5T_NATIVE_DOUBLE, mspace.id, fspace.id, H5P_DEFAULT, row.data()), path_,
+        "appending to " + name);
+}
+
+void H5File::flush() { H5Fflush(id_, H5F_SCOPE_GLOBAL); }
+
+std::vector<double> H5File::read(const std::string& name, std::vector<std::uint64_t>* dims) const {
+  if (!exists(name)) throw InputError(fmt::format("{}: no dataset '{}'", path_, name));
+  Id set{checked_id(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), path_, "opening " + name), H5Dclose};
+  Id space{H5Dget_space(set.id), H5Sclose};
+  int rank = H5Sget_simple_extent_ndims(space.id);
+  std::vector<hsize_t> d(static_cast<std::size_t>(rank));
+  H5Sget_simple_extent_dims(space.id, d.data(), nullptr);
+  std::size_t n = 1;
+  for (auto v : d) n *= v;
+  std::vector<double> out(n);
+  if (n > 0)
+    check(H5Dread(set.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()), path_,
+          "reading " + name);
+  if (dims) dims->assign(d.begin(), d.end());
+  return out;
+}
+
+double H5File::read_attribute_number(const std::string& object, const std::string& name) const {
+  Id obj{open_object(id_, path_, object), H5Oclose};
+  if (H5Aexists(obj.id, name.c_str()) <= 0)
+    throw InputError(fmt::format("{}: {} has no attribute '{}'", path_, object, name));
+  Id attr{H5Aopen(obj.id, name.c_str(), H5P_DEFAULT), H5Aclose};
+  double v = 0;
+  check(H5Aread(attr.id, H5T_NATIVE_DOUBLE, &v), path_, "reading attribute " + name);
+  return v;
+}
+
+std::string H5File::read_attribute_string(const std::string& object, const std::string& name) const {
+  Id obj{open_object(id_, path_, object), H5Oclose};
+  if (H5Aexists(obj.id, name.c_str()) <= 0)
+    throw InputError(fmt::format("{}: {} has no attribute '{}'", path_, object, name));
+  Id attr{H5Aopen(obj.id, name.c_str(), H5P_DEFAULT), H5Aclose};
+  Id type{H5Aget_type(attr.id), H5Tclose};
+  std::string s(H5Tget_size(type.id), '\0');
+  check(H5Aread(attr.id, type.id, s.data()), path_, "reading attribute " + name);
+  s.resize(s.find('\0') == std::string::npos ? s.size() : s.find('\0'));
+  return s;
+}
+
+}  // namespace dld

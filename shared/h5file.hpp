@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+// Thin RAII wrapper over the HDF5 C API: the few operations the run files need (datasets of
+// doubles, string/number attributes, extendible time-series tables), groups made on demand.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dld {
+
+class H5File {
+ public:
+  enum class Mode { kCreate, kRead, kReadWrite };
+  /// kCreate truncates. Errors become InputError naming the file.
+  H5File(const std::string& path, Mode mode);
+  ~H5File();
+  H5File(const H5File&) = delete;
+  H5File& operator=(const H5File&) = delete;
+  H5File(H5File&& o) noexcept;
+  H5File& operator=(H5File&& o) noexcept;
+
+  const std::string& path() const { return path_; }
+
+  /// n-D dataset of doubles (row-major dims); replaces an existing one of the same name.
+  void write(const std::string& name, const double* data, const std::vector<std::uint64_t>& dims);
+  void write(const std::string& name, const std::vector<double>& data) {
+    write(name, data.data(), {data.size()});
+  }
+  void write(const std::string& name, const float* data, const std::vector<std::uint64_t>& dims);
+  void write(const std::string& name, const std::int32_t* data, const std::vector<std::uint64_t>& dims);
+  /// Attribute on an object (group or dataset path; "/" is the file).
+  void attribute(const std::string& object, const std::string& name, double value);
+  void attribute(const std::string& object, const std::string& name, std::int64_t value);
+  void attribute(const std::string& object, const std::string& name, const std::string& value);
+  /// Appends one row to a 2-D table of `row.size()` columns, creating it (chunked, unlimited rows)
+  /// on first use with the given column names stored as a "columns" attribute.
+  void append_row(const std::string& name, const std::vector<double>& row,
+                  const std::vector<std::string>& columns = {});
+  void flush();
+
+  bool exists(const std::string& name) const;
+  /// Reads a dataset of doubles (any float type is converted); dims returned through `dims`.
+  std::vector<double> read(const std::string& name, std::vector<std::uint64_t>* dims = nullptr) const;
+  double read_attribute_number(const std::string& object, const std::string& name) const;
+  std::string read_attribute_string(const std::string& object, const std::string& name) const;
+
+ private:
+  void make_parents(const std::string& name);
+  std::int64_t id_ = -1;
+  std::string path_;
+};
+
+}  // namespace dld

@@ -1,0 +1,175 @@
+// SPDX-License-Identifier: MIT
+#include "shared/scene.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace dld {
+namespace {
+
+/// Number of nodes along a length, required to be whole so walls and periodic boxes align.
+int whole_nodes(const TomlSection& lattice, double length_um, double dx_um, const char* what) {
+  double n = length_um / dx_um;
+  long r = std::lround(n);
+  if (r < 1 || std::abs(n - static_cast<double>(r)) > 1e-6 * n)
+    lattice.fail("dx_um", fmt::format("{} / dx = {:.4g} / {:.4g} = {:.4g} must be a whole number of "
+                                      "nodes (choose dx so that lambda/dx and H/dx are integers)",
+                                      what, length_um, dx_um, n));
+  return static_cast<int>(r);
+}
+
+Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown) {
+  Scene s;
+  s.file = doc->file();
+  s.document = doc;
+  TomlSection root = TomlSection::root(doc);
+
+  TomlSection meta = root.section("scene");
+  s.name = meta.string("name");
+  if (s.name.empty() || s.name.find('/') != std::string::npos)
+    meta.fail("name", "expected a non-empty name without '/'");
+  s.description = meta.string("description", "");
+
+  TomlSection g = root.section("geometry");
+  s.cell_um.radius = g.positive("pillar_radius_um");
+  s.cell_um.lambda = g.positive("pillar_spacing_um");
+  s.cell_um.depth = g.positive("depth_um");
+  s.cell_um.shift = g.number("row_shift_um");
+  if (2.0 * s.cell_um.radius >= s.cell_um.lambda)
+    g.fail("pillar_radius_um", fmt::format("pillar diameter {} um must be smaller than the pillar "
+                                           "spacing {} um (the pillar would fill the box)",
+                                           2.0 * s.cell_um.radius, s.cell_um.lambda));
+  if (s.cell_um.shift < 0.0 || s.cell_um.shift >= s.cell_um.lambda)
+    g.fail("row_shift_um", fmt::format("expected 0 <= d < lambda = {} um, got {}", s.cell_um.lambda,
+                                       s.cell_um.shift));
+
+  TomlSection l = root.section("lattice");
+  s.lattice.dx_um = l.positive("dx_um");
+  s.lattice.tau = l.number("tau", 1.0);
+  if (!(s.lattice.tau > 0.5))
+    l.fail("tau", fmt::format("relaxation time must be > 1/2 (viscosity > 0), got {}", s.lattice.tau));
+  s.lattice.collision = l.choice("collision", {"trt", "bgk"}, "trt") == "bgk" ? CollisionKind::kBgk
+                                                                              : CollisionKind::kTrt;
+  s.lattice.trt_magic = l.positive("trt_magic", 3.0 / 16.0);
+  whole_nodes(l, s.cell_um.lambda, s.lattice.dx_um, "pillar spacing lambda");
+  int nz = whole_nodes(l, s.cell_um.depth, s.lattice.dx_um, "depth H");
+  if (nz < 2) l.fail("dx_um", "the depth must span at least 2 nodes");
+  double gap_nodes = s.cell_um.gap() / s.lattice.dx_um;
+  if (gap_nodes < 2.0)
+    l.fail("dx_um", fmt::format("the gap G = {} um spans only {:.2g} nodes; need at least 2",
+                                s.cell_um.gap(), gap_nodes));
+
+  if (auto f = root.optional_section("fluid")) {
+    s.fluid.density_kg_m3 = f->positive("density_kg_m3", s.fluid.density_kg_m3);
+    s.fluid.viscosity_Pa_s = f->positive("viscosity_Pa_s", s.fluid.viscosity_Pa_s);
+    s.fluid.viscosity_ratio = f->positive("viscosity_ratio", 1.0);
+    double tau_in = 0.5 + s.fluid.viscosity_ratio * (s.lattice.tau - 0.5);
+    if (tau_in > 20.0)
+      f->fail("viscosity_ratio", fmt::format("inner relaxation time {} is too large to be accurate",
+                                             tau_in));
+  }
+
+  TomlSection d = root.section("drive");
+  bool has_re = d.has("reynolds");
+  bool has_p = d.has("pressure_gradient_Pa_per_m");
+  if (has_re == has_p)
+    d.fail(has_re ? "reynolds" : "pressure_gradient_Pa_per_m",
+           "give exactly one of drive.reynolds and drive.pressure_gradient_Pa_per_m");
+  const double mu = s.fluid.viscosity_Pa_s;
+  const double nu = mu / s.fluid.density_kg_m3;
+  const double h = s.cell_um.depth * 1e-6;
+  const double gap = s.cell_um.gap() * 1e-6;
+  if (has_re) {
+    double re = d.positive("reynolds");
+    if (re > 10.0) d.fail("reynolds", fmt::format("expected Re <= 10 (Stokes-like flow), got {}", re));
+    s.drive.reynolds = re;
+    double u = re * nu / gap;
+    s.drive.pressure_gradient_Pa_per_m = 12.0 * mu * u / (h * h);
+  } else {
+    s.drive.pressure_gradient_Pa_per_m = d.number("pressure_gradient_Pa_per_m");
+    if (s.drive.pressure_gradient_Pa_per_m < 0.0)
+      d.fail("pressure_gradient_Pa_per_m", "expected >= 0 (flow along +x)");
+  }
+  s.drive.lateral_control = d.boolean("lateral_control", true);
+
+  if (auto r = root.optional_section("run")) {
+    s.run.max_steps = r->integer("max_steps", s.run.max_steps);
+    if (s.run.max_steps < 1) r->fail("max_steps", "expected a positive integer");
+    s.run.steady_tolerance = r->in_range("steady_tolerance", 0.0, 1.0, 0.0);
+    s.run.log_every = r->integer("log_every", s.run.log_every);
+    if (s.run.log_every < 1) r->fail("log_every", "expected a positive integer");
+    std::int64_t th = r->integer("threads", 0);
+    if (th < 0 || th > 1024) r->fail("threads", "expected 0 (all cores) or a thread count");
+    s.run.threads = static_cast<int>(th);
+  }
+  if (auto o = root.optional_section("output")) {
+    s.output.file = o->string("file", "");
+    s.output.snapshot_every = o->integer("snapshot_every", 0);
+    if (s.output.snapshot_every < 0) o->fail("snapshot_every", "expected >= 0");
+    s.output.fields = o->boolean("fields", true);
+  }
+  if (s.output.file.empty()) s.output.file = "runs/" + s.name + ".h5";
+
+  // Lattice velocity check: keep Mach number small so compressibility errors stay negligible.
+  LatticeUnits u = s.units();
+  double u_lu = u.velocity_lu(s.drive.pressure_gradient_Pa_per_m * h * h / (12.0 * mu));
+  if (u_lu > 0.05)
+    d.fail(has_re ? "reynolds" : "pressure_gradient_Pa_per_m",
+           fmt::format("the estimated lattice velocity {:.3g} exceeds 0.05 (Mach too high); lower "
+                       "the drive or raise tau",
+                       u_lu));
+
+  if (check_unknown) doc->reject_unknown(tables_owned_elsewhere());
+  return s;
+}
+
+}  // namespace
+
+LatticeUnits Scene::units() const {
+  return LatticeUnits(lattice.dx_um * 1e-6, lattice.tau, fluid.viscosity_Pa_s / fluid.density_kg_m3,
+                      fluid.density_kg_m3);
+}
+
+int Scene::nx() const { return static_cast<int>(std::lround(cell_um.lambda / lattice.dx_um)); }
+int Scene::ny() const { return nx(); }
+int Scene::nz() const { return static_cast<int>(std::lround(cell_um.depth / lattice.dx_um)); }
+
+double Scene::force_x_lu() const { return units().force_density_lu(drive.pressure_gradient_Pa_per_m); }
+
+std::string Scene::describe() const {
+  LatticeUnits u = units();
+  DldCell c = cell_lu();
+  std::string out;
+  out += fmt::format("scene '{}' ({})\n", name, file);
+  out += fmt::format("  geometry: lambda {} um, R {} um, G {} um, H {} um, d {} um (eps = d/lambda = {:.5g})\n",
+                     cell_um.lambda, cell_um.radius, cell_um.gap(), cell_um.depth, cell_um.shift,
+                     cell_um.shift / cell_um.lambda);
+  out += fmt::format("  fluid: rho {} kg/m^3, mu {} Pa s, nu {:.4g} m^2/s, viscosity ratio {}\n",
+                     fluid.density_kg_m3, fluid.viscosity_Pa_s,
+                     fluid.viscosity_Pa_s / fluid.density_kg_m3, fluid.viscosity_ratio);
+  out += fmt::format("  drive: p' = {:.6g} Pa/m{}\n", drive.pressure_gradient_Pa_per_m,
+                     drive.reynolds ? fmt::format(" (from target Re = {} by the plane-Poiseuille estimate)",
+                                                  *drive.reynolds)
+                                    : std::string());
+  out += fmt::format("  lattice: dx {} um, dt {:.6g} s, tau {} ({}{}), nu_lu {:.6g}\n", lattice.dx_um,
+                     u.dt_s(), lattice.tau, lattice.collision == CollisionKind::kTrt ? "TRT" : "BGK",
+                     lattice.collision == CollisionKind::kTrt
+                         ? fmt::format(", Lambda {:.6g}", lattice.trt_magic)
+                         : std::string(),
+                     u.nu_lu());
+  out += fmt::format("  lattice box: {} x {} x {} nodes, R {:.4g}, G {:.4g}, d {:.4g} nodes\n", nx(), ny(),
+                     nz(), c.radius, c.gap(), c.shift);
+  out += fmt::format("  lattice body force: f_x {:.6g} (lattice units)", force_x_lu());
+  return out;
+}
+
+Scene load_scene(const std::string& path, bool check_unknown) {
+  return read(TomlDocument::load(path), check_unknown);
+}
+
+Scene parse_scene(std::string_view text, const std::string& name, bool check_unknown) {
+  return read(TomlDocument::parse(text, name), check_unknown);
+}
+
+}  // namespace dld

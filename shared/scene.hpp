@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: MIT
+// The typed, validated scene: what a scene file says, in physical units, plus the lattice values
+// derived from it in one place (LatticeUnits). Sections read here: scene, geometry, lattice,
+// fluid, drive, run, output. Tables owned by other programs (membrane, cells, coupling) are kept
+// for them to read with the same strict TomlSection.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "shared/dld_geometry.hpp"
+#include "shared/toml_section.hpp"
+#include "shared/units.hpp"
+
+namespace dld {
+
+enum class CollisionKind { kBgk, kTrt };
+
+struct LatticeParams {
+  double dx_um = 0.4;            ///< lattice spacing [um]
+  double tau = 1.0;              ///< outer relaxation time [-]; nu_lu = (tau - 1/2)/3
+  CollisionKind collision = CollisionKind::kTrt;
+  double trt_magic = 3.0 / 16.0; ///< TRT Lambda = (tau+ - 1/2)(tau- - 1/2) [-]
+};
+
+struct FluidParams {
+  double density_kg_m3 = 1025.0;   ///< plasma density [kg/m^3]
+  double viscosity_Pa_s = 1.2e-3;  ///< outer (plasma) dynamic viscosity [Pa s]
+  double viscosity_ratio = 1.0;    ///< inner / outer viscosity [-]
+};
+
+struct DriveParams {
+  /// Driving body force density along x [Pa/m]; given directly or derived from `reynolds`.
+  double pressure_gradient_Pa_per_m = 0.0;
+  /// Target Re = U G / nu if the scene gave one; p' then comes from the plane-Poiseuille estimate
+  /// U = p' H^2 / (12 mu), which overestimates U (the pillar slows the flow): the run reports the
+  /// Re it actually reached.
+  std::optional<double> reynolds;
+  bool lateral_control = true;   ///< adjust a y body force so that the box-mean u_y stays zero
+};
+
+struct RunParams {
+  std::int64_t max_steps = 10000;     ///< hard step limit
+  double steady_tolerance = 0.0;      ///< stop when the relative change of mean u_x per
+                                      ///< check (log_every steps) falls below this; 0 = off
+  std::int64_t log_every = 500;       ///< steps between progress lines and time-series samples
+  int threads = 0;                    ///< OpenMP threads; 0 = all cores
+};
+
+struct OutputParams {
+  std::string file;                   ///< run HDF5 file; "" = runs/<scene name>.h5
+  std::int64_t snapshot_every = 0;    ///< steps between field snapshots; 0 = final one only
+  bool fields = true;                 ///< write velocity/density snapshots at all
+};
+
+struct Scene {
+  std::string file;        ///< the scene file it came from
+  std::string name;
+  std::string description;
+  DldCell cell_um;         ///< geometry in um
+  LatticeParams lattice;
+  FluidParams fluid;
+  DriveParams drive;
+  RunParams run;
+  OutputParams output;
+  std::shared_ptr<TomlDocument> document;  ///< the parsed file, for the other programs' tables
+
+  LatticeUnits units() const;
+  /// Box size in nodes (whole numbers, checked at load).
+  int nx() const;
+  int ny() const;
+  int nz() const;
+  /// Geometry in lattice units (nodes).
+  DldCell cell_lu() const { return cell_um.scaled(1.0 / lattice.dx_um); }
+  /// Lattice body force density along x.
+  double force_x_lu() const;
+  /// Human-readable resolved scene: physical values and the lattice values chosen.
+  std::string describe() const;
+};
+
+/// Tables that programs other than the fluid read (they check their own keys).
+inline const std::vector<std::string>& tables_owned_elsewhere() {
+  static const std::vector<std::string> t{"membrane", "cells", "coupling"};
+  return t;
+}
+
+/// Reads and validates a scene file; throws InputError naming file, line and key.
+/// With `check_unknown`, keys that no reader consumed (outside tables_owned_elsewhere()) are
+/// errors.
+Scene load_scene(const std::string& path, bool check_unknown = true);
+/// The same from text (tests); `name` stands for the file in messages.
+Scene parse_scene(std::string_view text, const std::string& name, bool check_unknown = true);
+
+}  // namespace dld
