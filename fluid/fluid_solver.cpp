@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT
+#include "fluid/fluid_solver.hpp"
+
+#include "fluid/bounce_back.hpp"
+#include "fluid/periodic_ghosts.hpp"
+
+namespace dld::fluid {
+
+FluidConfig fluid_config(const Scene& scene) {
+  FluidConfig c;
+  c.domain = dld_domain(scene.cell_lu(), scene.nx(), scene.ny(), scene.nz());
+  c.collision = scene.lattice.collision;
+  c.tau = scene.lattice.tau;
+  c.magic = scene.lattice.trt_magic;
+  c.force_x = scene.force_x_lu();
+  c.lateral_control = scene.drive.lateral_control;
+  return c;
+}
+
+FluidSolver::FluidSolver(const FluidConfig& config)
+    : config_(config), lattice_(config.domain), force_y_(config.force_y) {
+  const std::size_t n = lattice_.padded_size();
+  f_.assign(n * D3Q19::q, 0.0);
+  for (int i = 0; i < D3Q19::q; ++i)
+    for (std::size_t s = 0; s < n; ++s)
+      if (!lattice_.solid_mask()[s]) f_[i * n + s] = D3Q19::w[i] * config.rho0;
+  g_ = f_;
+  if (config.lateral_control) {
+    const double h = config.domain.walls_z ? config.domain.nz : config.domain.ny;
+    controller_ = std::make_unique<LateralController>(h, (config.tau - 0.5) / 3.0);
+    controller_->set_force(config.force_y);
+  }
+  sums_.mass = config.rho0 * static_cast<double>(lattice_.fluid_nodes());
+}
+
+std::array<double*, 3> FluidSolver::force_field() {
+  const std::size_t n = lattice_.padded_size();
+  if (force_field_.empty()) force_field_.assign(3 * n, 0.0);
+  return {force_field_.data(), force_field_.data() + n, force_field_.data() + 2 * n};
+}
+
+double* FluidSolver::tau_field() {
+  if (tau_field_.empty()) tau_field_.assign(lattice_.padded_size(), config_.tau);
+  return tau_field_.data();
+}
+
+namespace {
+template <typename C>
+FlowSums dispatch_fields(bool ff, bool tf, const Lattice& L, const double* src, double* dst,
+                         const KernelParams& p) {
+  if (ff && tf) return stream_collide<C, true, true>(L, src, dst, p);
+  if (ff) return stream_collide<C, true, false>(L, src, dst, p);
+  if (tf) return stream_collide<C, false, true>(L, src, dst, p);
+  return stream_collide<C, false, false>(L, src, dst, p);
+}
+}  // namespace
+
+void FluidSolver::step() {
+  fill_periodic_ghosts(lattice_, f_.data());
+  apply_bounce_back(lattice_, f_.data());
+
+  KernelParams p;
+  p.tau = config_.tau;
+  p.magic = config_.magic;
+  p.force[0] = config_.force_x;
+  p.force[1] = force_y_;
+  const bool ff = !force_field_.empty(), tf = !tau_field_.empty();
+  if (ff) {
+    const std::size_t n = lattice_.padded_size();
+    for (int a = 0; a < 3; ++a) p.force_field[a] = force_field_.data() + a * n;
+  }
+  if (tf) p.tau_field = tau_field_.data();
+  sums_ = config_.collision == CollisionKind::kBgk
+              ? dispatch_fields<Bgk>(ff, tf, lattice_, f_.data(), g_.data(), p)
+              : dispatch_fields<Trt>(ff, tf, lattice_, f_.data(), g_.data(), p);
+  applied_force_y_ = force_y_;
+  f_.swap(g_);
+  ++steps_;
+  if (controller_) force_y_ = controller_->update(mean_velocity()[1]);
+}
+
+std::array<double, 3> FluidSolver::mean_velocity() const {
+  return {sums_.momentum_x / sums_.mass, sums_.momentum_y / sums_.mass,
+          sums_.momentum_z / sums_.mass};
+}
+
+Moments FluidSolver::node_moments(int i, int j, int k) const {
+  // Post-collision populations carry momentum rho u + F/2 (Guo): remove the half force again.
+  const std::size_t n = lattice_.padded_size();
+  const std::size_t s = lattice_.index(i, j, k);
+  double fx = config_.force_x, fy = applied_force_y_, fz = 0.0;
+  if (!force_field_.empty()) {
+    fx += force_field_[s];
+    fy += force_field_[n + s];
+    fz += force_field_[2 * n + s];
+  }
+  double rho = 0, jx = 0, jy = 0, jz = 0;
+  for (int q = 0; q < D3Q19::q; ++q) {
+    const double v = f_[q * n + s];
+    rho += v;
+    jx += v * D3Q19::c[q][0];
+    jy += v * D3Q19::c[q][1];
+    jz += v * D3Q19::c[q][2];
+  }
+  return {rho, (jx - 0.5 * fx) / rho, (jy - 0.5 * fy) / rho, (jz - 0.5 * fz) / rho};
+}
+
+void FluidSolver::fields(std::vector<double>& rho, std::vector<double>& ux, std::vector<double>& uy,
+                         std::vector<double>& uz) const {
+  const int nx = lattice_.nx(), ny = lattice_.ny(), nz = lattice_.nz();
+  const std::size_t total = static_cast<std::size_t>(nx) * ny * nz;
+  rho.assign(total, config_.rho0);
+  ux.assign(total, 0.0);
+  uy.assign(total, 0.0);
+  uz.assign(total, 0.0);
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        if (lattice_.solid(i, j, k)) continue;
+        const std::size_t o = (static_cast<std::size_t>(k) * ny + j) * nx + i;
+        const Moments m = node_moments(i, j, k);
+        rho[o] = m.rho;
+        ux[o] = m.ux;
+        uy[o] = m.uy;
+        uz[o] = m.uz;
+      }
+}
+
+}  // namespace dld::fluid
