@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+// Coupled runs with both sides as threads: data arrives bit-exact over every transport, the
+// three transports give identical runs, and K membrane peers are concatenated in peer order.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "coupler_test_util.hpp"
+
+namespace dld::coupler::test {
+namespace {
+
+bool bit_equal(const std::vector<double>& a, const std::vector<double>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+}
+
+/// Checks what the fluid received against what the membranes sent, and what the membranes
+/// received against the dummy fluid's answer, bit for bit.
+void expect_exact(const RunRecord& rec, const std::vector<std::vector<std::uint32_t>>& split,
+                  int steps) {
+  ASSERT_EQ(rec.fluid_error, "");
+  for (const auto& e : rec.membrane_errors) ASSERT_EQ(e, "");
+  ASSERT_EQ(rec.fluid_positions.size(), static_cast<std::size_t>(steps));
+  std::size_t first_node = 0;
+  for (std::size_t k = 0; k < split.size(); ++k) {
+    const std::size_t nodes = std::accumulate(split[k].begin(), split[k].end(), std::size_t{0});
+    ASSERT_EQ(rec.membrane_velocities[k].size(), static_cast<std::size_t>(steps));
+    for (int s = 0; s < steps; ++s) {
+      std::vector<double> x(3 * nodes), f(3 * nodes), u;
+      fill_nodes(s, first_node, x, f);
+      const auto slice = [&](const std::vector<double>& all) {
+        return std::vector<double>(all.begin() + 3 * first_node,
+                                   all.begin() + 3 * (first_node + nodes));
+      };
+      EXPECT_TRUE(bit_equal(slice(rec.fluid_positions[s]), x)) << "peer " << k << " step " << s;
+      EXPECT_TRUE(bit_equal(slice(rec.fluid_forces[s]), f)) << "peer " << k << " step " << s;
+      dummy_velocities(s, x, f, u);
+      EXPECT_TRUE(bit_equal(rec.membrane_velocities[k][s], u)) << "peer " << k << " step " << s;
+    }
+    first_node += nodes;
+  }
+}
+
+class CoupledRun : public ::testing::TestWithParam<Kind> {};
+
+TEST_P(CoupledRun, DataArrivesBitExact) {
+  const std::vector<std::vector<std::uint32_t>> split{{1002, 642, 1002}};
+  const RunRecord rec = run_coupled(GetParam(), split, 5);
+  expect_exact(rec, split, 5);
+}
+
+TEST_P(CoupledRun, TwoMembranePeersAreConcatenatedInPeerOrder) {
+  const std::vector<std::vector<std::uint32_t>> split{{1002, 642}, {12, 1002, 7}};
+  const RunRecord rec = run_coupled(GetParam(), split, 4);
+  expect_exact(rec, split, 4);
+}
+
+INSTANTIATE_TEST_SUITE_P(Transports, CoupledRun,
+                         ::testing::Values(Kind::inproc, Kind::ipc, Kind::tcp),
+                         [](const auto& p) { return name(p.param); });
+
+TEST(CoupledRun, TransportsGiveIdenticalRuns) {
+  const std::vector<std::vector<std::uint32_t>> split{{1002, 1002}, {642}};
+  const RunRecord a = run_coupled(Kind::inproc, split, 3);
+  for (Kind kind : {Kind::ipc, Kind::tcp}) {
+    const RunRecord b = run_coupled(kind, split, 3);
+    ASSERT_EQ(b.fluid_positions.size(), a.fluid_positions.size()) << name(kind);
+    for (std::size_t s = 0; s < a.fluid_positions.size(); ++s) {
+      EXPECT_TRUE(bit_equal(a.fluid_positions[s], b.fluid_positions[s])) << name(kind);
+      EXPECT_TRUE(bit_equal(a.fluid_forces[s], b.fluid_forces[s])) << name(kind);
+    }
+    for (std::size_t k = 0; k < split.size(); ++k) {
+      ASSERT_EQ(a.membrane_velocities[k].size(), b.membrane_velocities[k].size());
+      for (std::size_t s = 0; s < a.membrane_velocities[k].size(); ++s) {
+        EXPECT_TRUE(bit_equal(a.membrane_velocities[k][s], b.membrane_velocities[k][s]))
+            << name(kind);
+      }
+    }
+  }
+}
+
+TEST(CoupledRun, FluidEndsTheRunAndTheMembraneSeesIt) {
+  zmq::context_t context;
+  TempDir dir;
+  FluidSide fluid({test_scene(1), fluid_endpoints(Kind::inproc, 1, dir), {}, test_options()},
+                  context);
+  bool advanced = true;
+  std::uint64_t membrane_step = 0;
+  std::thread membrane_thread([&] {
+    MembraneSide m({test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {5},
+                    test_options()},
+                   context);
+    m.initialize();
+    std::vector<double> x(15, 1.0), f(15, 0.0), u(15);
+    while ((advanced = m.advance(x, f, u))) {
+    }
+    membrane_step = m.step();
+    EXPECT_EQ(m.state(), State::ended);
+    m.finalize();
+  });
+  fluid.initialize();
+  for (int s = 0; s < 3; ++s) {
+    ASSERT_TRUE(fluid.receive());
+    fluid.send_velocities(std::vector<double>(15, 0.25));
+  }
+  ASSERT_TRUE(fluid.receive());  // step 3 received, then the fluid stops (e.g. Ctrl-C)
+  fluid.finalize();
+  membrane_thread.join();
+  EXPECT_FALSE(advanced);
+  EXPECT_EQ(membrane_step, 3u);
+}
+
+TEST(CoupledRun, RestartStartsAtTheAgreedStep) {
+  zmq::context_t context;
+  TempDir dir;
+  SceneIdentity scene = test_scene(1);
+  scene.start_step = 1000;
+  FluidSide fluid({scene, fluid_endpoints(Kind::inproc, 1, dir), {}, test_options()}, context);
+  std::thread membrane_thread([&] {
+    MembraneSide m({scene, fluid.endpoints()[0], "membrane-0", 0, 1, 0, {2}, test_options()},
+                   context);
+    m.initialize();
+    std::vector<double> x(6, 1.0), f(6, 0.0), u(6);
+    EXPECT_TRUE(m.advance(x, f, u));
+    EXPECT_EQ(m.step(), 1001u);
+    m.finalize();
+  });
+  fluid.initialize();
+  ASSERT_TRUE(fluid.receive());
+  EXPECT_EQ(fluid.step(), 1000u);
+  fluid.send_velocities(std::vector<double>(6, 0.0));
+  EXPECT_FALSE(fluid.receive());
+  fluid.finalize();
+  membrane_thread.join();
+}
+
+}  // namespace
+}  // namespace dld::coupler::test

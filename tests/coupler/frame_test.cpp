@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: MIT
+// The frame codec and endpoint strings on their own, without sockets.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+
+#include "coupler/endpoint.hpp"
+#include "coupler/error.hpp"
+#include "coupler/frame.hpp"
+#include "coupler/handshake.hpp"
+#include "shared/input_error.hpp"
+
+namespace dld::coupler {
+namespace {
+
+const Link kLink{"fluid", "membrane 'm-0'"};
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const CouplerError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(Frame, HeaderLayoutIsLittleEndianAsDocumented) {
+  const zmq::message_t frame = encode_shutdown(0x0102030405060708ull);
+  ASSERT_EQ(frame.size(), kHeaderBytes);
+  const auto* b = static_cast<const unsigned char*>(frame.data());
+  EXPECT_EQ(std::string(reinterpret_cast<const char*>(b), 4), "DLDC");
+  EXPECT_EQ(b[4], 1);  // version, low byte first
+  EXPECT_EQ(b[5], 0);
+  EXPECT_EQ(b[6], 5);  // type shutdown
+  EXPECT_EQ(b[8], 0x08);
+  EXPECT_EQ(b[15], 0x01);
+  for (int i = 16; i < 24; ++i) EXPECT_EQ(b[i], 0) << i;  // empty payload
+}
+
+TEST(Frame, StepRoundTripIsBitExact) {
+  const std::vector<double> x{-0.0, 4.9e-324, 1.0 / 3.0, 1e308, -7.5, 2.0};
+  const std::vector<double> f{1.0, 2.0, 3.0, 4.0, 5.0, -6.25};
+  const zmq::message_t frame = encode_step(42, x, f);
+  EXPECT_EQ(frame.size(), kHeaderBytes + step_payload_bytes(2));
+  const FrameHeader h = read_header(frame, kLink, 42);
+  EXPECT_EQ(h.type, FrameType::step);
+  EXPECT_EQ(h.step, 42u);
+  const std::byte* data = read_nodes(frame, h, 2, 2, kLink);
+  EXPECT_EQ(std::memcmp(data, x.data(), 48), 0);
+  EXPECT_EQ(std::memcmp(data + 48, f.data(), 48), 0);
+}
+
+TEST(Frame, TruncatedHeaderIsNamed) {
+  zmq::message_t frame(10);
+  EXPECT_EQ(error_of([&] { read_header(frame, kLink, 3); }),
+            "fluid: malformed frame from membrane 'm-0' at step 3: field 'header': frame of 10 "
+            "bytes is shorter than the 24-byte header");
+}
+
+TEST(Frame, WrongMagicVersionTypeAndLengthAreNamed) {
+  auto corrupt = [](std::size_t offset, std::uint8_t value) {
+    zmq::message_t frame = encode_velocities(1, std::vector<double>(3, 1.0));
+    static_cast<std::uint8_t*>(frame.data())[offset] = value;
+    return frame;
+  };
+  EXPECT_NE(error_of([&] { read_header(corrupt(0, 'X'), kLink, 1); }).find("field 'magic'"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_header(corrupt(4, 9), kLink, 1); }).find("field 'version': expected 1, got 9"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_header(corrupt(6, 77), kLink, 1); }).find("field 'type': unknown frame type 77"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] { read_header(corrupt(16, 200), kLink, 1); }).find("field 'payload_bytes'"),
+            std::string::npos);
+}
+
+TEST(Frame, NodeCountMismatchIsNamed) {
+  const zmq::message_t frame = encode_velocities(7, std::vector<double>(6, 0.5));
+  const FrameHeader h = read_header(frame, kLink, 7);
+  EXPECT_EQ(error_of([&] { read_nodes(frame, h, 3, 1, kLink); }),
+            "fluid: malformed frame from membrane 'm-0' at step 7: field 'node_count': expected "
+            "3 nodes, got 2");
+}
+
+TEST(Frame, ErrorTextStaysOneLine) {
+  const zmq::message_t frame = encode_error(2, "first line\nsecond line");
+  EXPECT_EQ(read_error_text(frame, read_header(frame, kLink, 2)), "first line second line");
+}
+
+TEST(Handshake, RecordRoundTrips) {
+  Handshake h;
+  h.scene.scene_hash = "abc";
+  h.scene.dt_s = 2.1e-8;
+  h.scene.start_step = 99;
+  h.scene.total_cells = 17;
+  h.side_name = "membrane-3";
+  h.peer_index = 3;
+  h.peer_count = 4;
+  h.first_cell = 12;
+  h.cell_nodes = {1002, 642, 1002};
+  const zmq::message_t frame = encode_handshake(FrameType::hello, h);
+  const FrameHeader header = read_header(frame, kLink, 99);
+  const Handshake back = decode_handshake(frame, header, kLink);
+  EXPECT_EQ(back.scene.scene_hash, "abc");
+  EXPECT_EQ(back.scene.dt_s, 2.1e-8);
+  EXPECT_EQ(back.scene.start_step, 99u);
+  EXPECT_EQ(back.side_name, "membrane-3");
+  EXPECT_EQ(back.first_cell, 12u);
+  EXPECT_EQ(back.cell_nodes, h.cell_nodes);
+}
+
+TEST(Handshake, MismatchMessageNamesFieldAndBothValues) {
+  SceneIdentity fluid;
+  fluid.dt_s = 2.1e-8;
+  SceneIdentity membrane = fluid;
+  membrane.dt_s = 2.2e-8;
+  EXPECT_EQ(scene_mismatch(fluid, membrane, "membrane 'membrane-0'").value(),
+            "handshake: field 'dt_s': fluid has 2.1e-08, membrane 'membrane-0' has 2.2e-08");
+  membrane.dt_s = 2.1e-8 * (1 + 1e-14);  // round-off of another program's arithmetic is accepted
+  EXPECT_FALSE(scene_mismatch(fluid, membrane, "m").has_value());
+}
+
+TEST(Endpoint, AcceptsTheThreeTransports) {
+  EXPECT_EQ(parse_endpoint("inproc://coupler"), Transport::inproc);
+  EXPECT_EQ(parse_endpoint("ipc:///tmp/run/coupler"), Transport::ipc);
+  EXPECT_EQ(parse_endpoint("tcp://127.0.0.1:5555"), Transport::tcp);
+}
+
+TEST(Endpoint, RefusesOthersWithANamedError) {
+  EXPECT_THROW(parse_endpoint("udp://127.0.0.1:5555"), InputError);
+  EXPECT_THROW(parse_endpoint("tcp://127.0.0.1"), InputError);
+  EXPECT_THROW(parse_endpoint("ipc://" + std::string(200, 'a')), InputError);
+  try {
+    parse_endpoint("pgm://x");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("coupler endpoint 'pgm://x'"), std::string::npos);
+  }
+}
+
+TEST(Endpoint, PeerEndpointsOnePerPeer) {
+  EXPECT_EQ(peer_endpoints("ipc:///tmp/c", 2), (std::vector<std::string>{"ipc:///tmp/c-0", "ipc:///tmp/c-1"}));
+  EXPECT_EQ(peer_endpoints("tcp://127.0.0.1:6000", 2),
+            (std::vector<std::string>{"tcp://127.0.0.1:6000", "tcp://127.0.0.1:6001"}));
+  EXPECT_EQ(peer_endpoints("tcp://127.0.0.1:*", 2),
+            (std::vector<std::string>{"tcp://127.0.0.1:*", "tcp://127.0.0.1:*"}));
+}
+
+}  // namespace
+}  // namespace dld::coupler

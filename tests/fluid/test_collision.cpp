@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+// Properties every collision operator must have (lattice units).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "fluid/collision.hpp"
+
+namespace dld::fluid {
+namespace {
+
+struct Sums {
+  double rho, jx, jy, jz;
+};
+Sums sums(const double* f) {
+  Sums s{0, 0, 0, 0};
+  for (int i = 0; i < D3Q19::q; ++i) {
+    s.rho += f[i];
+    s.jx += f[i] * D3Q19::c[i][0];
+    s.jy += f[i] * D3Q19::c[i][1];
+    s.jz += f[i] * D3Q19::c[i][2];
+  }
+  return s;
+}
+
+template <typename C>
+void check_conservation(double tau) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> noise(-0.01, 0.01);
+  const auto r = C::rates(tau, 3.0 / 16.0);
+  for (int trial = 0; trial < 50; ++trial) {
+    double f[D3Q19::q];
+    for (int i = 0; i < D3Q19::q; ++i) f[i] = D3Q19::w[i] * (1.0 + noise(rng) * 10) + 0.001 * noise(rng);
+    const double F[3] = {noise(rng) * 1e-3, noise(rng) * 1e-3, noise(rng) * 1e-3};
+    const Sums before = sums(f);
+    collide(f, r.plus, r.minus, F[0], F[1], F[2]);
+    const Sums after = sums(f);
+    EXPECT_NEAR(after.rho, before.rho, 1e-15);
+    // Guo forcing adds exactly F to the momentum per step.
+    EXPECT_NEAR(after.jx, before.jx + F[0], 1e-16);
+    EXPECT_NEAR(after.jy, before.jy + F[1], 1e-16);
+    EXPECT_NEAR(after.jz, before.jz + F[2], 1e-16);
+  }
+}
+
+template <typename C>
+void check_equilibrium_fixed_point(double tau) {
+  const auto r = C::rates(tau, 3.0 / 16.0);
+  const double rho = 1.03, u[3] = {0.02, -0.01, 0.005};
+  double f[D3Q19::q];
+  for (int i = 0; i < D3Q19::q; ++i) f[i] = equilibrium(i, rho, u[0], u[1], u[2]);
+  double g[D3Q19::q];
+  std::copy(f, f + D3Q19::q, g);
+  collide(g, r.plus, r.minus, 0.0, 0.0, 0.0);
+  for (int i = 0; i < D3Q19::q; ++i) EXPECT_NEAR(g[i], f[i], 1e-16) << "direction " << i;
+}
+
+TEST(Collision, BgkConservesMassAndMomentum) { check_conservation<Bgk>(0.8); }
+TEST(Collision, TrtConservesMassAndMomentum) { check_conservation<Trt>(1.0); }
+TEST(Collision, TrtWithHighTauConservesMassAndMomentum) { check_conservation<Trt>(3.0); }
+TEST(Collision, BgkEquilibriumIsFixedPoint) { check_equilibrium_fixed_point<Bgk>(0.8); }
+TEST(Collision, TrtEquilibriumIsFixedPoint) { check_equilibrium_fixed_point<Trt>(1.0); }
+
+TEST(Collision, TrtMagicParameterSetsOddRate) {
+  const auto r = Trt::rates(1.0, 3.0 / 16.0);
+  EXPECT_NEAR((1.0 / r.plus - 0.5) * (1.0 / r.minus - 0.5), 3.0 / 16.0, 1e-15);
+}
+
+TEST(Collision, MomentsIncludeHalfForce) {
+  double f[D3Q19::q];
+  for (int i = 0; i < D3Q19::q; ++i) f[i] = equilibrium(i, 1.0, 0.01, 0.0, 0.0);
+  const Moments m = moments(f, 2e-3, 0.0, 0.0);
+  EXPECT_NEAR(m.ux, 0.01 + 1e-3, 1e-15);
+}
+
+}  // namespace
+}  // namespace dld::fluid

@@ -1,0 +1,145 @@
+// SPDX-License-Identifier: MIT
+// Scene reading: a good scene resolves; each kind of bad scene stops with one line naming the
+// file, the line and the key.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "shared/scene.hpp"
+
+namespace {
+
+const char* kGood = R"(
+[scene]
+name = "t"
+[geometry]
+pillar_radius_um = 10.0
+pillar_spacing_um = 32.0
+depth_um = 4.8
+row_shift_um = 4.4
+[lattice]
+dx_um = 0.4
+[drive]
+reynolds = 0.1
+)";
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return text.replace(pos, from.size(), to);
+}
+
+// Returns the error message of parsing `text`, or "" if it parsed.
+std::string error_of(const std::string& text) {
+  try {
+    dld::parse_scene(text, "bad.toml");
+  } catch (const dld::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expect_error(const std::string& text, const std::string& key, int line, const std::string& what) {
+  const std::string msg = error_of(text);
+  ASSERT_FALSE(msg.empty()) << "scene was accepted";
+  EXPECT_NE(msg.find("bad.toml:" + std::to_string(line) + ":"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("'" + key + "'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find(what), std::string::npos) << msg;
+  EXPECT_EQ(msg.find('\n'), std::string::npos) << "message must be one line: " << msg;
+}
+
+TEST(Scene, GoodSceneResolvesLatticeValues) {
+  const dld::Scene s = dld::parse_scene(kGood, "good.toml");
+  EXPECT_EQ(s.nx(), 80);
+  EXPECT_EQ(s.ny(), 80);
+  EXPECT_EQ(s.nz(), 12);
+  EXPECT_NEAR(s.cell_lu().shift, 11.0, 1e-12);
+  EXPECT_NEAR(s.cell_lu().radius, 25.0, 1e-12);
+  EXPECT_EQ(s.lattice.collision, dld::CollisionKind::kTrt);
+  EXPECT_GT(s.force_x_lu(), 0.0);
+  EXPECT_EQ(s.output.file, "runs/t.h5");
+  // Re = 0.1 through the plane-Poiseuille estimate: U = p' H^2 / (12 mu) = Re nu / G.
+  const double nu = s.fluid.viscosity_Pa_s / s.fluid.density_kg_m3;
+  const double u = s.drive.pressure_gradient_Pa_per_m * 4.8e-6 * 4.8e-6 / (12 * s.fluid.viscosity_Pa_s);
+  EXPECT_NEAR(u * 12e-6 / nu, 0.1, 1e-12);
+  EXPECT_NE(s.describe().find("80 x 80 x 12 nodes"), std::string::npos);
+}
+
+TEST(Scene, UnknownKeyIsNamed) {
+  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ndx_nm = 400"), "lattice.dx_nm", 11,
+               "unknown key");
+}
+
+TEST(Scene, UnknownTableIsNamed) {
+  expect_error(std::string(kGood) + "[fluids]\nviscosity_Pa_s = 1e-3\n", "fluids.viscosity_Pa_s", 14,
+               "unknown key");
+}
+
+TEST(Scene, MissingRequiredKeyIsNamed) {
+  expect_error(replace(kGood, "depth_um = 4.8\n", ""), "geometry.depth_um", 4, "missing");
+}
+
+TEST(Scene, WrongTypeIsNamed) {
+  expect_error(replace(kGood, "depth_um = 4.8", "depth_um = \"4.8 um\""), "geometry.depth_um", 7,
+               "expected a number");
+}
+
+TEST(Scene, TauAtOrBelowOneHalfIsRefused) {
+  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ntau = 0.5"), "lattice.tau", 11, "> 1/2");
+}
+
+TEST(Scene, PillarWiderThanBoxIsRefused) {
+  expect_error(replace(kGood, "pillar_radius_um = 10.0", "pillar_radius_um = 16.0"),
+               "geometry.pillar_radius_um", 5, "smaller than the pillar spacing");
+}
+
+TEST(Scene, NegativeSizeIsRefused) {
+  expect_error(replace(kGood, "depth_um = 4.8", "depth_um = -4.8"), "geometry.depth_um", 7,
+               "positive");
+}
+
+TEST(Scene, NegativeShiftIsRefused) {
+  expect_error(replace(kGood, "row_shift_um = 4.4", "row_shift_um = -1.0"), "geometry.row_shift_um", 8,
+               "0 <= d < lambda");
+}
+
+TEST(Scene, LatticeSpacingMustFitTheBox) {
+  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.6"), "lattice.dx_um", 10, "whole number");
+}
+
+TEST(Scene, DriveNeedsExactlyOneOfReynoldsAndPressureGradient) {
+  expect_error(replace(kGood, "reynolds = 0.1", "reynolds = 0.1\npressure_gradient_Pa_per_m = 1e6"),
+               "drive.reynolds", 12, "exactly one");
+  expect_error(replace(kGood, "reynolds = 0.1", ""), "drive.pressure_gradient_Pa_per_m", 11,
+               "exactly one");
+}
+
+TEST(Scene, TooFastFlowIsRefused) {
+  expect_error(replace(kGood, "reynolds = 0.1", "reynolds = 10.0"), "drive.reynolds", 12, "Mach");
+}
+
+TEST(Scene, UnknownCollisionIsRefused) {
+  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ncollision = \"mrt\""), "lattice.collision", 11,
+               "expected one of");
+}
+
+TEST(Scene, SyntaxErrorGivesLine) {
+  const std::string msg = error_of(replace(kGood, "depth_um = 4.8", "depth_um = = 4.8"));
+  EXPECT_NE(msg.find("bad.toml:7:"), std::string::npos) << msg;
+}
+
+TEST(Scene, MissingFileIsNamed) {
+  try {
+    dld::load_scene("/nonexistent/scene.toml");
+    FAIL() << "no error";
+  } catch (const dld::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.toml"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Scene, TablesOfOtherProgramsAreLeftToThem) {
+  // [membrane] is read by the membrane program; the fluid reader must not reject it.
+  EXPECT_NO_THROW(dld::parse_scene(std::string(kGood) + "[membrane]\nmodel = \"skalak\"\n", "m.toml"));
+}
+
+}  // namespace
