@@ -28,8 +28,8 @@ struct Pair {
         FluidConfig{test_scene(1), fluid_endpoints(Kind::inproc, 1, dir), {}, test_options()},
         context);
     membrane = std::make_unique<MembraneSide>(
-        MembraneConfig{test_scene(1), fluid->endpoints()[0], "membrane-0", 0, 1, 0, {4},
-                       test_options()},
+        MembraneConfig{
+            test_scene(1), fluid->endpoints()[0], "membrane-0", 0, 1, 0, {4}, test_options()},
         context);
   }
   void initialize() {

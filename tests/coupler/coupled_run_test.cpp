@@ -87,9 +87,8 @@ TEST(CoupledRun, FluidEndsTheRunAndTheMembraneSeesIt) {
   bool advanced = true;
   std::uint64_t membrane_step = 0;
   std::thread membrane_thread([&] {
-    MembraneSide m({test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {5},
-                    test_options()},
-                   context);
+    MembraneSide m(
+        {test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {5}, test_options()}, context);
     m.initialize();
     std::vector<double> x(15, 1.0), f(15, 0.0), u(15);
     while ((advanced = m.advance(x, f, u))) {

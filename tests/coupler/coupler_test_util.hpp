@@ -69,7 +69,9 @@ class TempDir {
 };
 
 enum class Kind { inproc, ipc, tcp };
-inline std::string name(Kind k) { return k == Kind::inproc ? "inproc" : k == Kind::ipc ? "ipc" : "tcp"; }
+inline std::string name(Kind k) {
+  return k == Kind::inproc ? "inproc" : k == Kind::ipc ? "ipc" : "tcp";
+}
 
 /// Base endpoints the fluid binds: tcp only on 127.0.0.1 with a port the system picks.
 inline std::vector<std::string> fluid_endpoints(Kind kind, std::size_t peers, const TempDir& dir) {
@@ -78,9 +80,15 @@ inline std::vector<std::string> fluid_endpoints(Kind kind, std::size_t peers, co
   const int id = counter++;
   for (std::size_t k = 0; k < peers; ++k) {
     switch (kind) {
-      case Kind::inproc: out.push_back("inproc://coupler-test-" + std::to_string(id) + "-" + std::to_string(k)); break;
-      case Kind::ipc: out.push_back("ipc://" + (dir.path() / ("c" + std::to_string(k))).string()); break;
-      case Kind::tcp: out.push_back("tcp://127.0.0.1:*"); break;
+      case Kind::inproc:
+        out.push_back("inproc://coupler-test-" + std::to_string(id) + "-" + std::to_string(k));
+        break;
+      case Kind::ipc:
+        out.push_back("ipc://" + (dir.path() / ("c" + std::to_string(k))).string());
+        break;
+      case Kind::tcp:
+        out.push_back("tcp://127.0.0.1:*");
+        break;
     }
   }
   return out;
@@ -153,9 +161,14 @@ inline RunRecord run_coupled(Kind kind, const std::vector<std::vector<std::uint3
   std::uint32_t first_cell = 0;
   std::size_t first_node = 0;
   for (std::size_t k = 0; k < split.size(); ++k) {
-    MembraneConfig mc{test_scene(cells), endpoints[k], "membrane-" + std::to_string(k),
-                      static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(split.size()),
-                      first_cell, split[k], test_options()};
+    MembraneConfig mc{test_scene(cells),
+                      endpoints[k],
+                      "membrane-" + std::to_string(k),
+                      static_cast<std::uint32_t>(k),
+                      static_cast<std::uint32_t>(split.size()),
+                      first_cell,
+                      split[k],
+                      test_options()};
     membranes.emplace_back([&rec, &context, mc, k, first_node, steps] {
       try {
         MembraneSide m(mc, context);

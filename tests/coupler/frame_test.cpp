@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The frame codec and endpoint strings on their own, without sockets.
+#include "coupler/frame.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -7,7 +9,6 @@
 
 #include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
-#include "coupler/frame.hpp"
 #include "coupler/handshake.hpp"
 #include "shared/input_error.hpp"
 
@@ -66,12 +67,17 @@ TEST(Frame, WrongMagicVersionTypeAndLengthAreNamed) {
   };
   EXPECT_NE(error_of([&] { read_header(corrupt(0, 'X'), kLink, 1); }).find("field 'magic'"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { read_header(corrupt(4, 9), kLink, 1); }).find("field 'version': expected 1, got 9"),
+  EXPECT_NE(error_of([&] {
+              read_header(corrupt(4, 9), kLink, 1);
+            }).find("field 'version': expected 1, got 9"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { read_header(corrupt(6, 77), kLink, 1); }).find("field 'type': unknown frame type 77"),
+  EXPECT_NE(error_of([&] {
+              read_header(corrupt(6, 77), kLink, 1);
+            }).find("field 'type': unknown frame type 77"),
             std::string::npos);
-  EXPECT_NE(error_of([&] { read_header(corrupt(16, 200), kLink, 1); }).find("field 'payload_bytes'"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of([&] { read_header(corrupt(16, 200), kLink, 1); }).find("field 'payload_bytes'"),
+      std::string::npos);
 }
 
 TEST(Frame, NodeCountMismatchIsNamed) {
@@ -138,7 +144,8 @@ TEST(Endpoint, RefusesOthersWithANamedError) {
 }
 
 TEST(Endpoint, PeerEndpointsOnePerPeer) {
-  EXPECT_EQ(peer_endpoints("ipc:///tmp/c", 2), (std::vector<std::string>{"ipc:///tmp/c-0", "ipc:///tmp/c-1"}));
+  EXPECT_EQ(peer_endpoints("ipc:///tmp/c", 2),
+            (std::vector<std::string>{"ipc:///tmp/c-0", "ipc:///tmp/c-1"}));
   EXPECT_EQ(peer_endpoints("tcp://127.0.0.1:6000", 2),
             (std::vector<std::string>{"tcp://127.0.0.1:6000", "tcp://127.0.0.1:6001"}));
   EXPECT_EQ(peer_endpoints("tcp://127.0.0.1:*", 2),

@@ -17,11 +17,11 @@ struct Mismatch {
 std::pair<std::string, std::string> handshake_errors(const Mismatch& c) {
   zmq::context_t context;
   TempDir dir;
-  FluidSide fluid({test_scene(2), fluid_endpoints(Kind::inproc, 1, dir), {1002, 1002},
-                   test_options()},
-                  context);
-  MembraneConfig mc{test_scene(2), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {1002, 1002},
-                    test_options()};
+  FluidSide fluid(
+      {test_scene(2), fluid_endpoints(Kind::inproc, 1, dir), {1002, 1002}, test_options()},
+      context);
+  MembraneConfig mc{test_scene(2), fluid.endpoints()[0], "membrane-0", 0, 1, 0,
+                    {1002, 1002},  test_options()};
   c.mutate(mc);
   std::string membrane_error = "(no error)";
   std::thread membrane_thread([&] {
@@ -88,7 +88,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "field 'peer_index': fluid has 0, " + kM + " has 1"},
         Mismatch{"first_cell", [](auto& m) { m.first_cell = 1; },
                  "field 'first_cell': fluid has 0, " + kM + " has 1"},
-        Mismatch{"cell_nodes", [](auto& m) { m.cell_nodes = {1002, 1001}; },
+        Mismatch{"cell_nodes",
+                 [](auto& m) {
+                   m.cell_nodes = {1002, 1001};
+                 },
                  "field 'cell_nodes[1]': fluid has 1002, " + kM + " has 1001"},
         Mismatch{"owned_cells", [](auto& m) { m.cell_nodes = {1002}; },
                  "field 'total_cells': fluid expects 2 cells, the 1 membrane peer(s) own 1"}),
@@ -119,8 +122,7 @@ TEST(Handshake, MembraneChecksTheWelcomeToo) {
   zmq::context_t context;
   TempDir dir;
   RawPeer raw_fluid(context, "inproc://welcome-check", true);
-  MembraneSide m({test_scene(1), raw_fluid.endpoint(), "membrane-0", 0, 1, 0, {10},
-                  test_options()},
+  MembraneSide m({test_scene(1), raw_fluid.endpoint(), "membrane-0", 0, 1, 0, {10}, test_options()},
                  context);
   Handshake welcome = hello_for(test_scene(1), {10}, "fluid");
   welcome.scene.dt_s = 2.5e-8;
@@ -151,8 +153,9 @@ TEST(Handshake, MismatchOfOnePeerStopsEveryPeer) {
   std::vector<std::thread> threads;
   for (std::uint32_t k = 0; k < 2; ++k) {
     threads.emplace_back([&, k] {
-      MembraneConfig mc{test_scene(2), fluid.endpoints()[k], "membrane-" + std::to_string(k), k, 2,
-                        k, {100}, test_options()};
+      MembraneConfig mc{
+          test_scene(2), fluid.endpoints()[k], "membrane-" + std::to_string(k), k, 2, k,
+          {100},         test_options()};
       if (k == 1) mc.scene.scene_hash = "sha256:stale";
       MembraneSide m(mc, context);
       try {

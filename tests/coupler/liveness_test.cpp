@@ -42,9 +42,9 @@ TEST_P(Liveness, MembraneStopsWhenTheFluidHangsMidStep) {
   zmq::context_t context;
   TempDir dir;
   RawPeer raw_fluid(context, fluid_endpoints(GetParam(), 1, dir)[0], true);
-  MembraneSide m({test_scene(1), raw_fluid.endpoint(), "membrane-0", 0, 1, 0, {10},
-                  test_options(kTimeout)},
-                 context);
+  MembraneSide m(
+      {test_scene(1), raw_fluid.endpoint(), "membrane-0", 0, 1, 0, {10}, test_options(kTimeout)},
+      context);
   std::thread fluid_thread([&] {
     ASSERT_TRUE(raw_fluid.receive());  // hello
     raw_fluid.send(encode_handshake(FrameType::welcome, hello_for(test_scene(1), {10}, "fluid")));
@@ -88,8 +88,14 @@ TEST(Liveness, HandshakeTimesOutWhenNoMembraneComes) {
 
 TEST(Liveness, HandshakeTimesOutWhenNoFluidComes) {
   TempDir dir;
-  MembraneSide m({test_scene(1), "ipc://" + (dir.path() / "nobody").string(), "membrane-0", 0, 1,
-                  0, {10}, test_options(kTimeout)});
+  MembraneSide m({test_scene(1),
+                  "ipc://" + (dir.path() / "nobody").string(),
+                  "membrane-0",
+                  0,
+                  1,
+                  0,
+                  {10},
+                  test_options(kTimeout)});
   const auto start = Clock::now();
   EXPECT_THROW(m.initialize(), CouplerError);
   EXPECT_LT(Clock::now() - start, kTimeout + kSlack);
@@ -102,9 +108,8 @@ TEST(ErrorFrame, MembraneAbortStopsTheFluidAndTheOtherPeers) {
                   context);
   std::string peer0_error;
   std::thread peer0([&] {
-    MembraneSide m({test_scene(2), fluid.endpoints()[0], "membrane-0", 0, 2, 0, {4},
-                    test_options()},
-                   context);
+    MembraneSide m(
+        {test_scene(2), fluid.endpoints()[0], "membrane-0", 0, 2, 0, {4}, test_options()}, context);
     m.initialize();
     std::vector<double> v(12, 1.0), u(12);
     try {
@@ -115,9 +120,8 @@ TEST(ErrorFrame, MembraneAbortStopsTheFluidAndTheOtherPeers) {
     }
   });
   std::thread peer1([&] {
-    MembraneSide m({test_scene(2), fluid.endpoints()[1], "membrane-1", 1, 2, 1, {4},
-                    test_options()},
-                   context);
+    MembraneSide m(
+        {test_scene(2), fluid.endpoints()[1], "membrane-1", 1, 2, 1, {4}, test_options()}, context);
     m.initialize();
     std::vector<double> v(12, 1.0), u(12);
     for (int s = 0; s < 2; ++s) ASSERT_TRUE(m.advance(v, v, u));
@@ -146,9 +150,8 @@ TEST(ErrorFrame, FluidAbortStopsTheMembrane) {
   FluidSide fluid({test_scene(1), fluid_endpoints(Kind::ipc, 1, dir), {}, test_options()}, context);
   std::string membrane_error;
   std::thread membrane([&] {
-    MembraneSide m({test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {4},
-                    test_options()},
-                   context);
+    MembraneSide m(
+        {test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {4}, test_options()}, context);
     m.initialize();
     std::vector<double> v(12, 1.0), u(12);
     try {
@@ -177,9 +180,9 @@ TEST(ErrorFrame, ClosingWithoutFinalizeIsReportedAtOnce) {
   FluidSide fluid({test_scene(1), fluid_endpoints(Kind::inproc, 1, dir), {}, test_options(5000ms)},
                   context);
   std::thread membrane([&] {
-    MembraneSide m({test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {4},
-                    test_options(5000ms)},
-                   context);
+    MembraneSide m(
+        {test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {4}, test_options(5000ms)},
+        context);
     m.initialize();
     std::vector<double> v(12, 1.0), u(12);
     ASSERT_TRUE(m.advance(v, v, u));

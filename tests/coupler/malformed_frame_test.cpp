@@ -120,8 +120,7 @@ class MalformedToMembrane : public ::testing::TestWithParam<BadReply> {};
 TEST_P(MalformedToMembrane, IsRefusedWithANamedError) {
   zmq::context_t context;
   RawPeer raw_fluid(context, std::string("inproc://malformed-") + GetParam().name, true);
-  MembraneSide m({test_scene(1), raw_fluid.endpoint(), "membrane-0", 0, 1, 0, {2},
-                  test_options()},
+  MembraneSide m({test_scene(1), raw_fluid.endpoint(), "membrane-0", 0, 1, 0, {2}, test_options()},
                  context);
   std::thread fluid_thread([&] {
     ASSERT_TRUE(raw_fluid.receive());  // hello

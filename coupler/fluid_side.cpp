@@ -1,0 +1,344 @@
+// SPDX-License-Identifier: MIT
+#include "coupler/fluid_side.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cassert>
+#include <cstring>
+#include <stdexcept>
+
+#include "coupler/error.hpp"
+#include "coupler/frame.hpp"
+#include "shared/input_error.hpp"
+
+namespace dld::coupler {
+
+namespace {
+
+constexpr const char* kSelf = "fluid";
+
+double seconds(std::chrono::milliseconds t) {
+  return static_cast<double>(t.count()) / 1000.0;
+}
+
+// A hello of another protocol version may have another layout: compare the version before
+// decoding anything else, so the message is a handshake mismatch and not "malformed".
+void check_version(const zmq::message_t& frame, const std::string& label) {
+  std::uint32_t magic = 0;
+  std::uint16_t version = 0;
+  if (frame.size() < kHeaderBytes) return;  // read_header names it
+  std::memcpy(&magic, frame.data(), 4);
+  std::memcpy(&version, static_cast<const std::byte*>(frame.data()) + 4, 2);
+  if (magic == kMagic && version != kProtocolVersion) {
+    throw CouplerError(fmt::format("{}: {}", kSelf,
+                                   mismatch("protocol_version", kProtocolVersion, label, version)));
+  }
+}
+
+}  // namespace
+
+FluidSide::FluidSide(FluidConfig config) : config_(std::move(config)) {
+  own_context_ = std::make_unique<zmq::context_t>(1);
+  open(*own_context_);
+}
+
+FluidSide::FluidSide(FluidConfig config, zmq::context_t& context) : config_(std::move(config)) {
+  open(context);
+}
+
+void FluidSide::open(zmq::context_t& context) {
+  if (config_.endpoints.empty()) {
+    throw InputError("fluid: coupler needs at least one membrane endpoint");
+  }
+  if (!config_.cell_nodes.empty() && config_.cell_nodes.size() != config_.scene.total_cells) {
+    throw InputError(fmt::format("fluid: coupler given {} expected cell node counts for {} cells",
+                                 config_.cell_nodes.size(), config_.scene.total_cells));
+  }
+  for (std::size_t k = 0; k < config_.endpoints.size(); ++k) {
+    Peer peer;
+    peer.channel = std::make_unique<Channel>(context, Channel::Role::bind, config_.endpoints[k],
+                                             config_.options, kSelf);
+    peer.label = fmt::format("membrane peer {}", k);
+    peers_.push_back(std::move(peer));
+  }
+  step_ = config_.scene.start_step;
+}
+
+FluidSide::~FluidSide() {
+  if (state_ == State::running || state_ == State::have_step) {
+    broadcast_error(fmt::format("fluid closed without finalize() at step {}", step_));
+  }
+}
+
+std::vector<std::string> FluidSide::endpoints() const {
+  std::vector<std::string> bound;
+  for (const auto& peer : peers_) bound.push_back(peer.channel->endpoint());
+  return bound;
+}
+
+template <class Body>
+auto FluidSide::guarded(Body&& body) {
+  try {
+    return body();
+  } catch (const CouplerError& e) {
+    broadcast_error(e.what());
+    state_ = State::failed;
+    throw;
+  } catch (const zmq::error_t& e) {
+    const std::string message =
+        fmt::format("{}: transport failed at step {}: {}", kSelf, step_, e.what());
+    broadcast_error(message);
+    state_ = State::failed;
+    throw CouplerError(message);
+  }
+}
+
+void FluidSide::initialize() {
+  check_call(kSelf, "initialize()", state_, {State::created});
+  guarded([&] {
+    receive_hellos();
+    check_hellos();
+    for (std::size_t k = 0; k < peers_.size(); ++k) {
+      Peer& peer = peers_[k];
+      Handshake welcome = peer.hello;
+      welcome.scene = config_.scene;
+      welcome.side_name = kSelf;
+      zmq::message_t frame = encode_handshake(FrameType::welcome, welcome);
+      if (!peer.channel->send(frame)) {
+        throw CouplerError(fmt::format("{}: {} did not take the welcome within {} s", kSelf,
+                                       peer.label, seconds(config_.options.timeout)));
+      }
+    }
+    state_ = State::running;
+    spdlog::debug("coupler: fluid serves {} membrane peer(s), {} cells, {} nodes", peers_.size(),
+                  cell_nodes_.size(), node_count());
+  });
+}
+
+std::vector<std::size_t> FluidSide::poll(const std::vector<std::size_t>& pending,
+                                         std::chrono::steady_clock::time_point deadline) {
+  std::vector<zmq::pollitem_t> items;
+  for (std::size_t k : pending) {
+    items.push_back({static_cast<void*>(peers_[k].channel->socket()), 0, ZMQ_POLLIN, 0});
+  }
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    const int ready = zmq::poll(items, std::max(left, std::chrono::milliseconds{0}));
+    if (ready > 0) break;
+    if (left.count() <= 0) return {};
+  }
+  std::vector<std::size_t> ready;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (items[i].revents & ZMQ_POLLIN) ready.push_back(pending[i]);
+  }
+  return ready;
+}
+
+void FluidSide::receive_hellos() {
+  std::vector<std::size_t> pending(peers_.size());
+  for (std::size_t k = 0; k < pending.size(); ++k) pending[k] = k;
+  const auto deadline = std::chrono::steady_clock::now() + config_.options.handshake_timeout;
+  while (!pending.empty()) {
+    const auto ready = poll(pending, deadline);
+    if (ready.empty()) {
+      const Peer& late = peers_[pending.front()];
+      throw CouplerError(fmt::format(
+          "{}: no hello from {} on '{}' within {} s (is that membrane program running?)", kSelf,
+          late.label, late.channel->endpoint(), seconds(config_.options.handshake_timeout)));
+    }
+    for (std::size_t k : ready) {
+      Peer& peer = peers_[k];
+      auto frame = peer.channel->receive(std::chrono::milliseconds{0});
+      assert(frame);
+      check_version(*frame, peer.label);
+      const Link link{kSelf, peer.label};
+      const FrameHeader header = read_header(*frame, link, step_);
+      if (header.type == FrameType::error) {
+        throw CouplerError(fmt::format("{}: {} reported an error at step {}: {}", kSelf, peer.label,
+                                       header.step, read_error_text(*frame, header)));
+      }
+      if (header.type != FrameType::hello) {
+        throw_malformed(link, step_, "type",
+                        fmt::format("expected hello, got {}", to_string(header.type)));
+      }
+      peer.hello = decode_handshake(*frame, header, link);
+      if (peer.hello.side_name.empty()) throw_malformed(link, step_, "side_name", "empty");
+      peer.label = membrane_label(peer.hello.side_name);
+      std::erase(pending, k);
+    }
+  }
+}
+
+void FluidSide::check_hellos() {
+  const auto fail = [](const std::string& what) {
+    throw CouplerError(fmt::format("{}: {}", kSelf, what));
+  };
+  const auto total = config_.scene.total_cells;
+  std::uint32_t next_cell = 0;
+  std::size_t next_node = 0;
+  for (std::size_t k = 0; k < peers_.size(); ++k) {
+    Peer& peer = peers_[k];
+    const Handshake& hello = peer.hello;
+    if (auto what = scene_mismatch(config_.scene, hello.scene, peer.label)) fail(*what);
+    if (hello.peer_count != peers_.size()) {
+      fail(mismatch("peer_count", peers_.size(), peer.label, hello.peer_count));
+    }
+    if (hello.peer_index != k) fail(mismatch("peer_index", k, peer.label, hello.peer_index));
+    if (hello.first_cell != next_cell) {
+      fail(mismatch("first_cell", next_cell, peer.label, hello.first_cell));
+    }
+    for (std::size_t i = 0; i < hello.cell_nodes.size(); ++i) {
+      const std::size_t cell = next_cell + i;
+      const std::string field = fmt::format("cell_nodes[{}]", cell);
+      if (cell >= total) {
+        fail(fmt::format("handshake: field '{}': fluid expects {} cells, {} owns cells up to {}",
+                         field, total, peer.label, next_cell + hello.cell_nodes.size() - 1));
+      }
+      if (!config_.cell_nodes.empty() && config_.cell_nodes[cell] != hello.cell_nodes[i]) {
+        fail(mismatch(field, config_.cell_nodes[cell], peer.label, hello.cell_nodes[i]));
+      }
+      if (hello.cell_nodes[i] == 0) fail(mismatch(field, "nodes > 0", peer.label, 0));
+      peer.nodes += hello.cell_nodes[i];
+    }
+    peer.first_node = next_node;
+    next_node += peer.nodes;
+    next_cell += static_cast<std::uint32_t>(hello.cell_nodes.size());
+    cell_nodes_.insert(cell_nodes_.end(), hello.cell_nodes.begin(), hello.cell_nodes.end());
+  }
+  if (next_cell != total) {
+    fail(
+        fmt::format("handshake: field 'total_cells': fluid expects {} cells, the {} membrane "
+                    "peer(s) own {}",
+                    total, peers_.size(), next_cell));
+  }
+  positions_.assign(3 * next_node, 0.0);
+  forces_.assign(3 * next_node, 0.0);
+}
+
+bool FluidSide::receive() {
+  check_call(kSelf, "receive()", state_, {State::running});
+  return guarded([&] { return receive_steps(); });
+}
+
+bool FluidSide::receive_steps() {
+  std::vector<std::size_t> pending;
+  for (std::size_t k = 0; k < peers_.size(); ++k) {
+    peers_[k].shut_down = false;
+    pending.push_back(k);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + config_.options.timeout;
+  while (!pending.empty()) {
+    const auto ready = poll(pending, deadline);
+    if (ready.empty()) {
+      throw CouplerError(fmt::format(
+          "{}: no frame from {} within {} s while waiting for step {} (peer dead or hung?)", kSelf,
+          peers_[pending.front()].label, seconds(config_.options.timeout), step_));
+    }
+    for (std::size_t k : ready) {
+      auto frame = peers_[k].channel->receive(std::chrono::milliseconds{0});
+      assert(frame);
+      accept_frame(k, *frame);
+      std::erase(pending, k);
+    }
+  }
+  std::size_t shut = 0;
+  for (const Peer& peer : peers_) shut += peer.shut_down ? 1 : 0;
+  if (shut == peers_.size()) {
+    state_ = State::ended;
+    spdlog::debug("coupler: membranes ended the run at step {}", step_);
+    return false;
+  }
+  if (shut > 0) {
+    std::size_t a = 0;
+    std::size_t b = 0;
+    while (!peers_[a].shut_down) ++a;
+    while (peers_[b].shut_down) ++b;
+    throw CouplerError(fmt::format(
+        "{}: {} ended the run at step {} while {} sent that step: membrane programs must stop "
+        "together",
+        kSelf, peers_[a].label, step_, peers_[b].label));
+  }
+  state_ = State::have_step;
+  return true;
+}
+
+void FluidSide::accept_frame(std::size_t k, const zmq::message_t& frame) {
+  Peer& peer = peers_[k];
+  const Link link{kSelf, peer.label};
+  const FrameHeader header = read_header(frame, link, step_);
+  switch (header.type) {
+    case FrameType::error:
+      throw CouplerError(fmt::format("{}: {} reported an error at step {}: {}", kSelf, peer.label,
+                                     header.step, read_error_text(frame, header)));
+    case FrameType::shutdown:
+      peer.shut_down = true;
+      return;
+    case FrameType::step:
+      break;
+    default:
+      throw_malformed(
+          link, step_, "type",
+          fmt::format("expected step, shutdown or error, got {}", to_string(header.type)));
+  }
+  if (header.step != step_) {
+    throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
+  }
+  const std::byte* data = read_nodes(frame, header, peer.nodes, 2, link);
+  const std::size_t bytes = 3 * peer.nodes * sizeof(double);
+  std::memcpy(positions_.data() + 3 * peer.first_node, data, bytes);
+  std::memcpy(forces_.data() + 3 * peer.first_node, data + bytes, bytes);
+}
+
+std::span<const double> FluidSide::positions() const {
+  check_call(kSelf, "positions()", state_, {State::have_step});
+  return positions_;
+}
+
+std::span<const double> FluidSide::forces() const {
+  check_call(kSelf, "forces()", state_, {State::have_step});
+  return forces_;
+}
+
+void FluidSide::send_velocities(std::span<const double> velocities) {
+  check_call(kSelf, "send_velocities()", state_, {State::have_step});
+  if (velocities.size() != positions_.size()) {
+    throw std::invalid_argument(fmt::format("fluid: send_velocities() given {} values for {} nodes",
+                                            velocities.size(), node_count()));
+  }
+  guarded([&] {
+    for (Peer& peer : peers_) {
+      zmq::message_t frame =
+          encode_velocities(step_, velocities.subspan(3 * peer.first_node, 3 * peer.nodes));
+      if (!peer.channel->send(frame)) {
+        throw CouplerError(fmt::format("{}: {} did not take the velocities of step {} within {} s",
+                                       kSelf, peer.label, step_, seconds(config_.options.timeout)));
+      }
+    }
+    ++step_;
+    state_ = State::running;
+  });
+}
+
+void FluidSide::finalize() {
+  check_call(kSelf, "finalize()", state_,
+             {State::running, State::have_step, State::ended, State::failed});
+  if (state_ == State::running || state_ == State::have_step) {
+    for (Peer& peer : peers_) peer.channel->try_send(encode_shutdown(step_));
+  }
+  state_ = State::finalized;
+  peers_.clear();  // close now; linger bounds the delivery of the shutdown frames
+}
+
+void FluidSide::abort(std::string_view message) noexcept {
+  if (state_ == State::finalized || state_ == State::failed) return;
+  broadcast_error(message);
+  state_ = State::failed;
+}
+
+void FluidSide::broadcast_error(std::string_view message) noexcept {
+  for (Peer& peer : peers_) peer.channel->try_send(encode_error(step_, message));
+}
+
+}  // namespace dld::coupler

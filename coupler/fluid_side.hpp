@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+// The fluid's end of the coupling: serves K membrane peers in lock-step.
+//
+// Call order (checked; a wrong order throws std::logic_error):
+//   FluidSide fluid(config);             // binds one endpoint per membrane peer
+//   fluid.initialize();                  // hellos in, handshake checked, welcomes out
+//   while (fluid.receive()) {            // positions and forces of step fluid.step()
+//     ... spread fluid.forces() at fluid.positions(), advance the lattice, interpolate ...
+//     fluid.send_velocities(u);          // same nodes, same order; step += 1
+//   }                                    // receive() == false: the membranes ended the run
+//   fluid.finalize();                    // tells the membranes to stop if they have not
+// Peer k's nodes occupy [node_offset(k), node_offset(k) + nodes) in the concatenated arrays.
+// Coupling failures throw CouplerError after telling every peer (error frame), so all stop.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <zmq.hpp>
+
+#include "coupler/channel.hpp"
+#include "coupler/handshake.hpp"
+#include "coupler/options.hpp"
+#include "coupler/state.hpp"
+
+namespace dld::coupler {
+
+struct FluidConfig {
+  SceneIdentity scene;
+  /// One endpoint per membrane peer, in peer order (see peer_endpoints()). The fluid binds them.
+  std::vector<std::string> endpoints;
+  /// Expected node count of every cell (total_cells entries), or empty to accept the peers'.
+  std::vector<std::uint32_t> cell_nodes;
+  Options options;
+};
+
+class FluidSide {
+ public:
+  /// With a context of its own (ipc, tcp).
+  explicit FluidSide(FluidConfig config);
+  /// With the caller's context: needed for inproc, where both sides must share one.
+  FluidSide(FluidConfig config, zmq::context_t& context);
+  ~FluidSide();
+  FluidSide(const FluidSide&) = delete;
+  FluidSide& operator=(const FluidSide&) = delete;
+
+  /// The endpoints as bound (a tcp port "*" resolved), in peer order.
+  std::vector<std::string> endpoints() const;
+
+  void initialize();
+  /// Waits for step step() from every peer. False when all peers sent shutdown instead.
+  [[nodiscard]] bool receive();
+  /// Concatenated node positions and forces of the received step: 3 x node_count() doubles,
+  /// node-major (x0 y0 z0 x1 ...). Valid until the next receive().
+  std::span<const double> positions() const;
+  std::span<const double> forces() const;
+  /// Velocities for exactly the received nodes (3 x node_count()); completes the step.
+  void send_velocities(std::span<const double> velocities);
+  /// Ends the run: peers still running get a shutdown frame. Closes the sockets.
+  void finalize();
+  /// Stops the run because of an error of the fluid program: every peer receives `message` and
+  /// stops naming the fluid and the step. The side is failed afterwards.
+  void abort(std::string_view message) noexcept;
+
+  State state() const { return state_; }
+  /// The step the next receive() expects (or the received one, until send_velocities()).
+  std::uint64_t step() const { return step_; }
+  std::size_t peer_count() const { return peers_.size(); }
+  std::size_t node_count() const { return positions_.size() / 3; }
+  std::size_t node_offset(std::size_t peer) const { return peers_[peer].first_node; }
+  /// Node count of every cell over all peers, in global cell order (after initialize()).
+  std::span<const std::uint32_t> cell_nodes() const { return cell_nodes_; }
+  /// "membrane 'membrane-1'" once its hello arrived, else "membrane peer 1".
+  const std::string& peer_label(std::size_t peer) const { return peers_[peer].label; }
+
+ private:
+  struct Peer {
+    std::unique_ptr<Channel> channel;
+    std::string label;
+    Handshake hello;
+    std::size_t first_node = 0;
+    std::size_t nodes = 0;
+    bool shut_down = false;
+  };
+
+  void open(zmq::context_t& context);
+  void receive_hellos();
+  void check_hellos();
+  bool receive_steps();
+  void accept_frame(std::size_t k, const zmq::message_t& frame);
+  /// Indices of peers for which a frame is waiting, within the deadline; empty on timeout.
+  std::vector<std::size_t> poll(const std::vector<std::size_t>& pending,
+                                std::chrono::steady_clock::time_point deadline);
+  void broadcast_error(std::string_view message) noexcept;
+  /// Runs `body`; on CouplerError tells every peer, marks the side failed and rethrows.
+  template <class Body>
+  auto guarded(Body&& body);
+
+  FluidConfig config_;
+  std::unique_ptr<zmq::context_t> own_context_;  // declared before peers_: sockets close first
+  std::vector<Peer> peers_;
+  State state_ = State::created;
+  std::uint64_t step_ = 0;
+  std::vector<std::uint32_t> cell_nodes_;
+  std::vector<double> positions_;
+  std::vector<double> forces_;
+};
+
+}  // namespace dld::coupler

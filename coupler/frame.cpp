@@ -1,0 +1,173 @@
+// SPDX-License-Identifier: MIT
+#include "coupler/frame.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cstring>
+
+#include "coupler/error.hpp"
+
+namespace dld::coupler {
+
+namespace {
+
+// Fixed-width little-endian fields are copied with memcpy: received bytes need not be aligned.
+template <class T>
+void put(std::byte* at, T value) {
+  std::memcpy(at, &value, sizeof(T));
+}
+template <class T>
+T get(const std::byte* at) {
+  T value;
+  std::memcpy(&value, at, sizeof(T));
+  return value;
+}
+
+constexpr std::size_t kMaxErrorText = 4096;
+
+}  // namespace
+
+std::string_view to_string(FrameType type) {
+  switch (type) {
+    case FrameType::hello:
+      return "hello";
+    case FrameType::welcome:
+      return "welcome";
+    case FrameType::step:
+      return "step";
+    case FrameType::velocities:
+      return "velocities";
+    case FrameType::shutdown:
+      return "shutdown";
+    case FrameType::error:
+      return "error";
+  }
+  return "unknown";
+}
+
+zmq::message_t make_frame(FrameType type, std::uint64_t step, std::size_t payload_bytes) {
+  zmq::message_t frame(kHeaderBytes + payload_bytes);
+  auto* at = static_cast<std::byte*>(frame.data());
+  put(at + 0, kMagic);
+  put(at + 4, kProtocolVersion);
+  put(at + 6, static_cast<std::uint16_t>(type));
+  put(at + 8, step);
+  put(at + 16, static_cast<std::uint64_t>(payload_bytes));
+  return frame;
+}
+
+std::byte* payload(zmq::message_t& frame) {
+  return static_cast<std::byte*>(frame.data()) + kHeaderBytes;
+}
+const std::byte* payload(const zmq::message_t& frame) {
+  return static_cast<const std::byte*>(frame.data()) + kHeaderBytes;
+}
+
+zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions,
+                           std::span<const double> forces) {
+  assert(positions.size() == forces.size() && positions.size() % 3 == 0);
+  const std::size_t nodes = positions.size() / 3;
+  zmq::message_t frame = make_frame(FrameType::step, step, step_payload_bytes(nodes));
+  std::byte* at = payload(frame);
+  put(at, static_cast<std::uint64_t>(nodes));
+  std::memcpy(at + 8, positions.data(), positions.size_bytes());
+  std::memcpy(at + 8 + positions.size_bytes(), forces.data(), forces.size_bytes());
+  return frame;
+}
+
+zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities) {
+  assert(velocities.size() % 3 == 0);
+  const std::size_t nodes = velocities.size() / 3;
+  zmq::message_t frame = make_frame(FrameType::velocities, step, velocities_payload_bytes(nodes));
+  std::byte* at = payload(frame);
+  put(at, static_cast<std::uint64_t>(nodes));
+  std::memcpy(at + 8, velocities.data(), velocities.size_bytes());
+  return frame;
+}
+
+zmq::message_t encode_shutdown(std::uint64_t step) {
+  return make_frame(FrameType::shutdown, step, 0);
+}
+
+zmq::message_t encode_error(std::uint64_t step, std::string_view message) {
+  message = message.substr(0, kMaxErrorText);
+  zmq::message_t frame = make_frame(FrameType::error, step, message.size());
+  std::memcpy(payload(frame), message.data(), message.size());
+  return frame;
+}
+
+void throw_malformed(const Link& link, std::uint64_t step, std::string_view field,
+                     std::string_view detail) {
+  throw CouplerError(fmt::format("{}: malformed frame from {} at step {}: field '{}': {}",
+                                 link.self, link.peer, step, field, detail));
+}
+
+FrameHeader read_header(const zmq::message_t& frame, const Link& link, std::uint64_t at_step) {
+  if (frame.size() < kHeaderBytes) {
+    throw_malformed(link, at_step, "header",
+                    fmt::format("frame of {} bytes is shorter than the {}-byte header",
+                                frame.size(), kHeaderBytes));
+  }
+  const auto* at = static_cast<const std::byte*>(frame.data());
+  const auto magic = get<std::uint32_t>(at);
+  if (magic != kMagic) {
+    throw_malformed(link, at_step, "magic",
+                    fmt::format("expected {:#010x} (\"DLDC\"), got {:#010x}", kMagic, magic));
+  }
+  FrameHeader header;
+  header.version = get<std::uint16_t>(at + 4);
+  if (header.version != kProtocolVersion) {
+    throw_malformed(link, at_step, "version",
+                    fmt::format("expected {}, got {}", kProtocolVersion, header.version));
+  }
+  const auto type = get<std::uint16_t>(at + 6);
+  if (type < static_cast<std::uint16_t>(FrameType::hello) ||
+      type > static_cast<std::uint16_t>(FrameType::error)) {
+    throw_malformed(link, at_step, "type", fmt::format("unknown frame type {}", type));
+  }
+  header.type = static_cast<FrameType>(type);
+  header.step = get<std::uint64_t>(at + 8);
+  header.payload_bytes = get<std::uint64_t>(at + 16);
+  if (header.payload_bytes != frame.size() - kHeaderBytes) {
+    throw_malformed(
+        link, at_step, "payload_bytes",
+        fmt::format("header announces {} bytes but the {} frame carries {}", header.payload_bytes,
+                    to_string(header.type), frame.size() - kHeaderBytes));
+  }
+  return header;
+}
+
+const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& header,
+                            std::size_t nodes, int arrays, const Link& link) {
+  const std::byte* at = payload(frame);
+  if (header.payload_bytes < 8) {
+    throw_malformed(
+        link, header.step, "node_count",
+        fmt::format("{} frame too short to hold the node count", to_string(header.type)));
+  }
+  const auto count = get<std::uint64_t>(at);
+  if (count != nodes) {
+    throw_malformed(link, header.step, "node_count",
+                    fmt::format("expected {} nodes, got {}", nodes, count));
+  }
+  const std::size_t expected = 8 + static_cast<std::size_t>(arrays) * 3 * 8 * nodes;
+  if (header.payload_bytes != expected) {
+    throw_malformed(link, header.step, "payload_bytes",
+                    fmt::format("{} nodes need {} bytes in a {} frame, got {}", nodes, expected,
+                                to_string(header.type), header.payload_bytes));
+  }
+  return at + 8;
+}
+
+std::string read_error_text(const zmq::message_t& frame, const FrameHeader& header) {
+  const auto* at = reinterpret_cast<const char*>(payload(frame));
+  std::string text(at, std::min<std::size_t>(header.payload_bytes, kMaxErrorText));
+  std::replace_if(
+      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  if (text.empty()) text = "(no message)";
+  return text;
+}
+
+}  // namespace dld::coupler

@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+// Frame codec: the byte layout of every message of the protocol (docs/protocol.md, "Frames").
+// A frame is one ZeroMQ message: a 24-byte header followed by a payload, all little-endian.
+#pragma once
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <zmq.hpp>
+
+namespace dld::coupler {
+
+static_assert(std::endian::native == std::endian::little,
+              "the frame codec copies doubles and integers as they lie in memory");
+
+inline constexpr std::uint32_t kMagic = 0x43444C44;  ///< bytes 'D' 'L' 'D' 'C'
+inline constexpr std::uint16_t kProtocolVersion = 1;
+inline constexpr std::size_t kHeaderBytes = 24;
+
+enum class FrameType : std::uint16_t {
+  hello = 1,       ///< membrane -> fluid: handshake record
+  welcome = 2,     ///< fluid -> membrane: handshake record of the fluid for this peer
+  step = 3,        ///< membrane -> fluid: node count, positions (N x 3), forces (N x 3)
+  velocities = 4,  ///< fluid -> membrane: node count, velocities (N x 3)
+  shutdown = 5,    ///< either way: the sender ends the run cleanly; empty payload
+  error = 6,       ///< either way: the sender failed; payload = its one-line message (UTF-8)
+};
+std::string_view to_string(FrameType type);
+
+struct FrameHeader {
+  std::uint16_t version = kProtocolVersion;
+  FrameType type = FrameType::error;
+  std::uint64_t step = 0;
+  std::uint64_t payload_bytes = 0;
+};
+
+/// Who is talking to whom, for error messages: "fluid", "membrane 'membrane-0'".
+struct Link {
+  std::string self;
+  std::string peer;
+};
+
+/// Payload sizes, so senders allocate once and receivers check counts.
+constexpr std::size_t step_payload_bytes(std::size_t nodes) {
+  return 8 + 2 * 3 * 8 * nodes;
+}
+constexpr std::size_t velocities_payload_bytes(std::size_t nodes) {
+  return 8 + 3 * 8 * nodes;
+}
+
+/// A message of header + payload_bytes whose payload the caller fills (one allocation, no copy).
+zmq::message_t make_frame(FrameType type, std::uint64_t step, std::size_t payload_bytes);
+std::byte* payload(zmq::message_t& frame);
+const std::byte* payload(const zmq::message_t& frame);
+
+/// positions and forces: 3 N doubles each, node-major (x0 y0 z0 x1 ...).
+zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions,
+                           std::span<const double> forces);
+zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities);
+zmq::message_t encode_shutdown(std::uint64_t step);
+zmq::message_t encode_error(std::uint64_t step, std::string_view message);
+
+/// Reads and checks the header of a received frame: size, magic, version, known type, payload
+/// length. `at_step` is the step the receiver is at, for the message. Throws CouplerError:
+/// "fluid: malformed frame from membrane 'm-0' at step 4: field 'magic': expected ..., got ...".
+FrameHeader read_header(const zmq::message_t& frame, const Link& link, std::uint64_t at_step);
+
+/// Checks a node payload (step or velocities): its node count equals `nodes` and its length
+/// matches; returns the bytes of the `arrays` arrays of 3 N doubles that follow the count.
+const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& header,
+                            std::size_t nodes, int arrays, const Link& link);
+
+/// The text of an error frame, cut at 4 KiB and with line breaks turned into spaces so it stays
+/// one line in the receiver's message.
+std::string read_error_text(const zmq::message_t& frame, const FrameHeader& header);
+
+/// Throws CouplerError "<self>: malformed frame from <peer> at step <n>: field '<f>': <detail>".
+[[noreturn]] void throw_malformed(const Link& link, std::uint64_t step, std::string_view field,
+                                  std::string_view detail);
+
+}  // namespace dld::coupler

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT
+#include "coupler/handshake.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace dld::coupler {
+
+namespace {
+
+template <class T>
+void put(std::byte*& at, T value) {
+  std::memcpy(at, &value, sizeof(T));
+  at += sizeof(T);
+}
+template <class T>
+T get(const std::byte*& at) {
+  T value;
+  std::memcpy(&value, at, sizeof(T));
+  at += sizeof(T);
+  return value;
+}
+
+bool same(double a, double b) {
+  return a == b || std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b));
+}
+
+}  // namespace
+
+zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
+  const std::size_t bytes = kHandshakeFixedBytes + r.scene.scene_hash.size() + r.side_name.size() +
+                            4 * r.cell_nodes.size();
+  zmq::message_t frame = make_frame(type, r.scene.start_step, bytes);
+  std::byte* at = payload(frame);
+  for (double v : {r.scene.dx_m, r.scene.dt_s, r.scene.density_kg_m3, r.scene.lambda_m,
+                   r.scene.radius_m, r.scene.depth_m, r.scene.shift_m}) {
+    put(at, v);
+  }
+  put(at, r.scene.start_step);
+  for (std::uint32_t v : {r.scene.total_cells, r.peer_index, r.peer_count, r.first_cell,
+                          static_cast<std::uint32_t>(r.cell_nodes.size()),
+                          static_cast<std::uint32_t>(r.scene.scene_hash.size()),
+                          static_cast<std::uint32_t>(r.side_name.size()), std::uint32_t{0}}) {
+    put(at, v);
+  }
+  std::memcpy(at, r.scene.scene_hash.data(), r.scene.scene_hash.size());
+  at += r.scene.scene_hash.size();
+  std::memcpy(at, r.side_name.data(), r.side_name.size());
+  at += r.side_name.size();
+  std::memcpy(at, r.cell_nodes.data(), 4 * r.cell_nodes.size());
+  return frame;
+}
+
+Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& header,
+                           const Link& link) {
+  if (header.payload_bytes < kHandshakeFixedBytes) {
+    throw_malformed(link, header.step, "payload_bytes",
+                    fmt::format("{} record needs at least {} bytes, got {}", to_string(header.type),
+                                kHandshakeFixedBytes, header.payload_bytes));
+  }
+  const std::byte* at = payload(frame);
+  Handshake r;
+  r.scene.dx_m = get<double>(at);
+  r.scene.dt_s = get<double>(at);
+  r.scene.density_kg_m3 = get<double>(at);
+  r.scene.lambda_m = get<double>(at);
+  r.scene.radius_m = get<double>(at);
+  r.scene.depth_m = get<double>(at);
+  r.scene.shift_m = get<double>(at);
+  r.scene.start_step = get<std::uint64_t>(at);
+  r.scene.total_cells = get<std::uint32_t>(at);
+  r.peer_index = get<std::uint32_t>(at);
+  r.peer_count = get<std::uint32_t>(at);
+  r.first_cell = get<std::uint32_t>(at);
+  const auto cells = get<std::uint32_t>(at);
+  const auto hash_bytes = get<std::uint32_t>(at);
+  const auto name_bytes = get<std::uint32_t>(at);
+  at += 4;  // reserved
+  if (hash_bytes > kMaxNameBytes || name_bytes > kMaxNameBytes) {
+    throw_malformed(link, header.step, hash_bytes > kMaxNameBytes ? "scene_hash" : "side_name",
+                    fmt::format("longer than {} bytes", kMaxNameBytes));
+  }
+  const std::size_t expected = kHandshakeFixedBytes + hash_bytes + name_bytes + 4ull * cells;
+  if (header.payload_bytes != expected) {
+    throw_malformed(link, header.step, "payload_bytes",
+                    fmt::format("{} record with {} cells needs {} bytes, got {}",
+                                to_string(header.type), cells, expected, header.payload_bytes));
+  }
+  r.scene.scene_hash.assign(reinterpret_cast<const char*>(at), hash_bytes);
+  at += hash_bytes;
+  r.side_name.assign(reinterpret_cast<const char*>(at), name_bytes);
+  at += name_bytes;
+  r.cell_nodes.resize(cells);
+  std::memcpy(r.cell_nodes.data(), at, 4ull * cells);
+  return r;
+}
+
+std::optional<std::string> scene_mismatch(const SceneIdentity& f, const SceneIdentity& m,
+                                          std::string_view label) {
+  if (f.scene_hash != m.scene_hash) {
+    return mismatch("scene_hash", fmt::format("'{}'", f.scene_hash), label,
+                    fmt::format("'{}'", m.scene_hash));
+  }
+  const std::pair<const char*, std::pair<double, double>> doubles[] = {
+      {"dx_m", {f.dx_m, m.dx_m}},
+      {"dt_s", {f.dt_s, m.dt_s}},
+      {"density_kg_m3", {f.density_kg_m3, m.density_kg_m3}},
+      {"lambda_m", {f.lambda_m, m.lambda_m}},
+      {"radius_m", {f.radius_m, m.radius_m}},
+      {"depth_m", {f.depth_m, m.depth_m}},
+      {"shift_m", {f.shift_m, m.shift_m}},
+  };
+  for (const auto& [field, values] : doubles) {
+    if (!same(values.first, values.second)) {
+      return mismatch(field, values.first, label, values.second);
+    }
+  }
+  if (f.start_step != m.start_step)
+    return mismatch("start_step", f.start_step, label, m.start_step);
+  if (f.total_cells != m.total_cells) {
+    return mismatch("total_cells", f.total_cells, label, m.total_cells);
+  }
+  return std::nullopt;
+}
+
+std::string membrane_label(std::string_view side_name) {
+  return fmt::format("membrane '{}'", side_name);
+}
+
+}  // namespace dld::coupler

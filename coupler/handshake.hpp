@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: MIT
+// The handshake record carried by hello (membrane -> fluid) and welcome (fluid -> membrane), and
+// the comparison that stops a run whose two sides were started for different scenes.
+#pragma once
+#include <fmt/format.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <zmq.hpp>
+
+#include "coupler/frame.hpp"
+
+namespace dld::coupler {
+
+/// What both sides must agree on. The coupler carries these as plain numbers and compares them;
+/// it never interprets them. Doubles agree when they differ by at most 1e-12 relative.
+struct SceneIdentity {
+  std::string scene_hash;         ///< identity of the resolved scene (e.g. a hash of its TOML)
+  double dx_m = 0;                ///< lattice spacing [m]
+  double dt_s = 0;                ///< time step [s]
+  double density_kg_m3 = 0;       ///< fluid density [kg/m^3]
+  double lambda_m = 0;            ///< pillar centre-to-centre distance [m]
+  double radius_m = 0;            ///< pillar radius [m]
+  double depth_m = 0;             ///< channel depth [m]
+  double shift_m = 0;             ///< row shift per pillar [m]
+  std::uint64_t start_step = 0;   ///< number of the first exchanged step (non-zero on restart)
+  std::uint32_t total_cells = 0;  ///< cells over all membrane processes
+};
+
+/// One side's handshake record. For a hello, the membrane's own cells; for a welcome, what the
+/// fluid expects of that peer (same cells, same place).
+struct Handshake {
+  SceneIdentity scene;
+  std::string side_name;                  ///< "fluid", "membrane-0", ...
+  std::uint32_t peer_index = 0;           ///< which of the fluid's endpoints this peer uses
+  std::uint32_t peer_count = 1;           ///< membrane processes in the run
+  std::uint32_t first_cell = 0;           ///< global index of this peer's first cell
+  std::vector<std::uint32_t> cell_nodes;  ///< node count of every cell the peer owns, in order
+};
+
+inline constexpr std::size_t kHandshakeFixedBytes = 96;
+inline constexpr std::size_t kMaxNameBytes = 256;
+
+zmq::message_t encode_handshake(FrameType type, const Handshake& record);
+/// Decodes the payload of a hello or welcome; a short or inconsistent record is a malformed frame.
+Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& header,
+                           const Link& link);
+
+/// The one-line mismatch message, always oriented fluid first:
+/// "handshake: field 'dt_s': fluid has 2.1e-08, membrane 'membrane-0' has 2.2e-08".
+template <class A, class B>
+std::string mismatch(std::string_view field, const A& fluid_value, std::string_view membrane,
+                     const B& membrane_value) {
+  return fmt::format("handshake: field '{}': fluid has {}, {} has {}", field, fluid_value, membrane,
+                     membrane_value);
+}
+
+/// The first field of the scene identity on which the two sides disagree, as a mismatch message.
+std::optional<std::string> scene_mismatch(const SceneIdentity& fluid, const SceneIdentity& membrane,
+                                          std::string_view membrane_label);
+
+/// "membrane 'membrane-0'": how messages name a membrane peer.
+std::string membrane_label(std::string_view side_name);
+
+}  // namespace dld::coupler

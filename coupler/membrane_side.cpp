@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: MIT
+#include "coupler/membrane_side.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cstring>
+#include <numeric>
+#include <stdexcept>
+
+#include "coupler/error.hpp"
+#include "coupler/frame.hpp"
+#include "shared/input_error.hpp"
+
+namespace dld::coupler {
+
+namespace {
+
+constexpr const char* kFluid = "fluid";
+
+double seconds(std::chrono::milliseconds t) {
+  return static_cast<double>(t.count()) / 1000.0;
+}
+
+}  // namespace
+
+MembraneSide::MembraneSide(MembraneConfig config)
+    : config_(std::move(config)), own_context_(std::make_unique<zmq::context_t>(1)) {
+  self_ = membrane_label(config_.name);
+  channel_ = std::make_unique<Channel>(*own_context_, Channel::Role::connect, config_.endpoint,
+                                       config_.options, self_);
+  step_ = config_.scene.start_step;
+  nodes_ = std::accumulate(config_.cell_nodes.begin(), config_.cell_nodes.end(), std::size_t{0});
+}
+
+MembraneSide::MembraneSide(MembraneConfig config, zmq::context_t& context)
+    : config_(std::move(config)) {
+  self_ = membrane_label(config_.name);
+  channel_ = std::make_unique<Channel>(context, Channel::Role::connect, config_.endpoint,
+                                       config_.options, self_);
+  step_ = config_.scene.start_step;
+  nodes_ = std::accumulate(config_.cell_nodes.begin(), config_.cell_nodes.end(), std::size_t{0});
+}
+
+MembraneSide::~MembraneSide() {
+  if (channel_ && (state_ == State::running)) {
+    channel_->try_send(
+        encode_error(step_, fmt::format("{} closed without finalize() at step {}", self_, step_)));
+  }
+}
+
+template <class Body>
+auto MembraneSide::guarded(Body&& body) {
+  try {
+    return body();
+  } catch (const CouplerError& e) {
+    channel_->try_send(encode_error(step_, e.what()));
+    state_ = State::failed;
+    throw;
+  } catch (const zmq::error_t& e) {
+    const std::string message =
+        fmt::format("{}: transport failed at step {}: {}", self_, step_, e.what());
+    channel_->try_send(encode_error(step_, message));
+    state_ = State::failed;
+    throw CouplerError(message);
+  }
+}
+
+void MembraneSide::initialize() {
+  check_call(self_, "initialize()", state_, {State::created});
+  guarded([&] {
+    const Handshake hello{config_.scene,      config_.name,       config_.peer_index,
+                          config_.peer_count, config_.first_cell, config_.cell_nodes};
+    zmq::message_t frame = encode_handshake(FrameType::hello, hello);
+    if (!channel_->send(frame)) {
+      throw CouplerError(fmt::format("{}: the fluid did not take the hello on '{}' within {} s",
+                                     self_, config_.endpoint, seconds(config_.options.timeout)));
+    }
+    auto reply = channel_->receive(config_.options.handshake_timeout);
+    if (!reply) {
+      throw CouplerError(fmt::format(
+          "{}: no welcome from the fluid on '{}' within {} s (is the fluid program running?)",
+          self_, config_.endpoint, seconds(config_.options.handshake_timeout)));
+    }
+    const Link link{self_, kFluid};
+    const FrameHeader header = read_header(*reply, link, step_);
+    if (header.type == FrameType::error) {
+      throw CouplerError(fmt::format("{}: fluid reported an error at step {}: {}", self_,
+                                     header.step, read_error_text(*reply, header)));
+    }
+    if (header.type != FrameType::welcome) {
+      throw_malformed(link, step_, "type",
+                      fmt::format("expected welcome, got {}", to_string(header.type)));
+    }
+    check_welcome(decode_handshake(*reply, header, link));
+    state_ = State::running;
+    spdlog::debug("coupler: {} joined the fluid with {} cells, {} nodes", self_,
+                  config_.cell_nodes.size(), nodes_);
+  });
+}
+
+// The fluid checks the hello first; this second look catches a fluid that skipped a check.
+void MembraneSide::check_welcome(const Handshake& welcome) {
+  const auto fail = [&](const std::string& what) {
+    throw CouplerError(fmt::format("{}: {}", self_, what));
+  };
+  if (auto what = scene_mismatch(welcome.scene, config_.scene, self_)) fail(*what);
+  if (welcome.peer_count != config_.peer_count) {
+    fail(mismatch("peer_count", welcome.peer_count, self_, config_.peer_count));
+  }
+  if (welcome.peer_index != config_.peer_index) {
+    fail(mismatch("peer_index", welcome.peer_index, self_, config_.peer_index));
+  }
+  if (welcome.first_cell != config_.first_cell) {
+    fail(mismatch("first_cell", welcome.first_cell, self_, config_.first_cell));
+  }
+  if (welcome.cell_nodes != config_.cell_nodes) {
+    fail(mismatch("cell_nodes", fmt::format("{} cells", welcome.cell_nodes.size()), self_,
+                  fmt::format("{} cells", config_.cell_nodes.size())));
+  }
+}
+
+bool MembraneSide::advance(std::span<const double> positions, std::span<const double> forces,
+                           std::span<double> velocities) {
+  check_call(self_, "advance()", state_, {State::running});
+  if (positions.size() != 3 * nodes_ || forces.size() != 3 * nodes_ ||
+      velocities.size() != 3 * nodes_) {
+    throw std::invalid_argument(
+        fmt::format("{}: advance() given {}/{}/{} position/force/velocity values for {} nodes",
+                    self_, positions.size(), forces.size(), velocities.size(), nodes_));
+  }
+  return guarded([&] {
+    zmq::message_t frame = encode_step(step_, positions, forces);
+    if (!channel_->send(frame)) {
+      throw CouplerError(fmt::format("{}: the fluid did not take step {} within {} s", self_, step_,
+                                     seconds(config_.options.timeout)));
+    }
+    auto reply = channel_->receive(config_.options.timeout);
+    if (!reply) {
+      throw CouplerError(fmt::format(
+          "{}: no velocities from the fluid within {} s at step {} (fluid dead or hung?)", self_,
+          seconds(config_.options.timeout), step_));
+    }
+    const Link link{self_, kFluid};
+    const FrameHeader header = read_header(*reply, link, step_);
+    switch (header.type) {
+      case FrameType::error:
+        throw CouplerError(fmt::format("{}: fluid reported an error at step {}: {}", self_,
+                                       header.step, read_error_text(*reply, header)));
+      case FrameType::shutdown:
+        state_ = State::ended;
+        spdlog::debug("coupler: fluid ended the run at step {}", step_);
+        return false;
+      case FrameType::velocities:
+        break;
+      default:
+        throw_malformed(
+            link, step_, "type",
+            fmt::format("expected velocities, shutdown or error, got {}", to_string(header.type)));
+    }
+    if (header.step != step_) {
+      throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
+    }
+    const std::byte* data = read_nodes(*reply, header, nodes_, 1, link);
+    std::memcpy(velocities.data(), data, velocities.size_bytes());
+    ++step_;
+    return true;
+  });
+}
+
+void MembraneSide::finalize() {
+  check_call(self_, "finalize()", state_, {State::running, State::ended, State::failed});
+  if (state_ == State::running) channel_->try_send(encode_shutdown(step_));
+  state_ = State::finalized;
+  channel_.reset();  // close now; linger bounds the delivery of the shutdown frame
+}
+
+void MembraneSide::abort(std::string_view message) noexcept {
+  if (state_ == State::finalized || state_ == State::failed || !channel_) return;
+  channel_->try_send(encode_error(step_, message));
+  state_ = State::failed;
+}
+
+}  // namespace dld::coupler

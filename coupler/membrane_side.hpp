@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: MIT
+// A membrane program's end of the coupling: one peer of the fluid, owning some of the cells.
+//
+// Call order (checked; a wrong order throws std::logic_error):
+//   MembraneSide membrane(config);        // connects to the fluid's endpoint for this peer
+//   membrane.initialize();                // hello out, welcome in, handshake checked
+//   for (...) {
+//     ... forces F at positions X of the owned nodes (cells in order, nodes of a cell in order) ...
+//     if (!membrane.advance(X, F, U)) break;  // U: velocities at X; false: the fluid ended the run
+//     ... X += U dt ...
+//   }
+//   membrane.finalize();                  // tells the fluid the run ends (if it has not ended it)
+// Coupling failures throw CouplerError after telling the fluid (error frame), which stops too.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <zmq.hpp>
+
+#include "coupler/channel.hpp"
+#include "coupler/handshake.hpp"
+#include "coupler/options.hpp"
+#include "coupler/state.hpp"
+
+namespace dld::coupler {
+
+struct MembraneConfig {
+  SceneIdentity scene;
+  std::string endpoint;                   ///< the fluid's endpoint for this peer
+  std::string name = "membrane-0";        ///< names this side in every message
+  std::uint32_t peer_index = 0;           ///< which fluid endpoint this is
+  std::uint32_t peer_count = 1;           ///< membrane programs in the run
+  std::uint32_t first_cell = 0;           ///< global index of the first owned cell
+  std::vector<std::uint32_t> cell_nodes;  ///< node count of every owned cell, in order
+  Options options;
+};
+
+class MembraneSide {
+ public:
+  /// With a context of its own (ipc, tcp).
+  explicit MembraneSide(MembraneConfig config);
+  /// With the caller's context: needed for inproc, where both sides must share one.
+  MembraneSide(MembraneConfig config, zmq::context_t& context);
+  ~MembraneSide();
+  MembraneSide(const MembraneSide&) = delete;
+  MembraneSide& operator=(const MembraneSide&) = delete;
+
+  void initialize();
+  /// Exchanges step step(): sends positions and forces (3 x node_count() doubles each,
+  /// node-major), waits for the velocities of the same nodes and writes them to `velocities`.
+  /// Returns false, writing nothing, if the fluid ended the run instead.
+  [[nodiscard]] bool advance(std::span<const double> positions, std::span<const double> forces,
+                             std::span<double> velocities);
+  void finalize();
+  /// Stops the run because of an error of the membrane program: the fluid receives `message`, and
+  /// through it every other membrane peer. The side is failed afterwards.
+  void abort(std::string_view message) noexcept;
+
+  State state() const { return state_; }
+  std::uint64_t step() const { return step_; }
+  std::size_t node_count() const { return nodes_; }
+  /// "membrane 'membrane-0'".
+  const std::string& label() const { return self_; }
+
+ private:
+  template <class Body>
+  auto guarded(Body&& body);
+  void check_welcome(const Handshake& welcome);
+
+  MembraneConfig config_;
+  std::string self_;
+  std::unique_ptr<zmq::context_t> own_context_;  // declared before channel_: socket closes first
+  std::unique_ptr<Channel> channel_;
+  State state_ = State::created;
+  std::uint64_t step_ = 0;
+  std::size_t nodes_ = 0;
+};
+
+}  // namespace dld::coupler
