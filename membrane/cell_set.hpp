@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// The cells a membrane process owns: one reference mesh and one set of models shared by all
+// cells, node positions of all cells in one matrix (cell k holds columns [k n, (k+1) n)),
+// optional contact. This is the API the coupler drives each step:
+//   positions() -> X,  compute_forces(F),  move(U, dt): X += U dt.
+#pragma once
+#include <optional>
+
+#include "membrane/contact.hpp"
+#include "membrane/mesh.hpp"
+#include "membrane/model_registry.hpp"
+
+namespace dld::membrane {
+
+class CellSet {
+ public:
+  CellSet(TriMesh reference, MembraneMechanics mechanics,
+          std::optional<Contact> contact = std::nullopt);
+
+  /// Adds a cell in its rest shape: reference centred at `centre`, turned by `angle_rad` about z
+  /// (the reference's axis of symmetry is z, so the cell lies flat).
+  void add_cell(const Eigen::Vector3d& centre, double angle_rad = 0.0);
+  /// Adds a cell with given node positions (e.g. from a checkpoint); throws InputError on a
+  /// wrong node count or non-finite values.
+  void add_cell(const Points& nodes);
+
+  int cell_count() const { return cells_; }
+  int nodes_per_cell() const { return reference_.node_count(); }
+  int node_count() const { return static_cast<int>(x_.cols()); }
+  const TriMesh& reference() const { return reference_; }
+  const MembraneMechanics& mechanics() const { return mechanics_; }
+  const std::optional<Contact>& contact() const { return contact_; }
+
+  /// All node positions [lattice lengths]; unwrapped (a cell stays in one piece across the box).
+  const Points& positions() const { return x_; }
+  Points& positions() { return x_; }
+  auto cell_positions(int k) const { return x_.middleCols(k * nodes_per_cell(), nodes_per_cell()); }
+
+  /// Membrane plus contact forces on every node [lattice force]; f is resized. Returns the total
+  /// energy [lattice energy].
+  double compute_forces(Points& f) const;
+  double energy() const;
+  /// X += U dt (no-slip: nodes move with the interpolated fluid velocity).
+  void move(const Points& velocity, double dt);
+
+  Eigen::Vector3d centroid(int k) const;
+  double volume(int k) const;
+  double area(int k) const;
+
+ private:
+  TriMesh reference_;  // rest shape centred at the origin
+  MembraneMechanics mechanics_;
+  std::optional<Contact> contact_;
+  Points x_;
+  int cells_ = 0;
+};
+
+}  // namespace dld::membrane

@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: MIT
+// dld-membrane: the membrane side. With a standalone task in the scene ([membrane.stretch] or
+// [membrane.relax]) it runs without fluid; otherwise it checks the scene, meshes the cells and
+// prints the resolved membrane set-up (coupled runs are started by the coupler's launcher).
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "membrane/membrane_scene.hpp"
+#include "membrane/mesh_quality.hpp"
+#include "shared/h5file.hpp"
+#include "shared/log.hpp"
+
+namespace {
+
+using namespace dld;
+using namespace dld::membrane;
+
+void run_stretch(const Scene& scene, const MembraneScene& m, const std::string& output) {
+  const LatticeUnits u = scene.units();
+  std::vector<double> forces_lu;
+  for (double f : m.stretch->forces_pN) forces_lu.push_back(u.force_lu(f * 1e-12));
+  const auto points = stretch_cell(m.reference_lu, m.mechanics, forces_lu, m.stretch->options);
+  std::vector<double> f_pN, da, dt, dv;
+  std::string csv =
+      "# dld-membrane optical-tweezers stretch: force [pN], D_A [um], D_T [um], V/V0-1, converged\n"
+      "force_pN,axial_um,transverse_um,volume_change,converged\n";
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    f_pN.push_back(m.stretch->forces_pN[i]);
+    da.push_back(u.length_m(p.axial) * 1e6);
+    dt.push_back(u.length_m(p.transverse) * 1e6);
+    dv.push_back(p.volume_change);
+    spdlog::info("F {:7.2f} pN: D_A {:6.3f} um, D_T {:6.3f} um, dV/V {:+.2e}, {} iterations{}",
+                 f_pN.back(), da.back(), dt.back(), p.volume_change, p.iterations,
+                 p.converged ? "" : " (NOT converged)");
+    csv += fmt::format("{},{:.6f},{:.6f},{:.3e},{}\n", f_pN.back(), da.back(), dt.back(), dv.back(),
+                       p.converged ? 1 : 0);
+  }
+  if (!m.stretch->output_csv.empty()) {
+    std::filesystem::path p(m.stretch->output_csv);
+    if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
+    std::ofstream(p) << csv;
+    spdlog::info("wrote {}", p.string());
+  }
+  std::filesystem::path h5(output);
+  if (h5.has_parent_path()) std::filesystem::create_directories(h5.parent_path());
+  H5File file(output, H5File::Mode::kCreate);
+  file.write("/stretch/force_pN", f_pN);
+  file.write("/stretch/axial_um", da);
+  file.write("/stretch/transverse_um", dt);
+  file.write("/stretch/volume_change", dv);
+  file.attribute("/", "scene", scene.file);
+  file.attribute("/", "mesh_faces", static_cast<std::int64_t>(m.reference_lu.face_count()));
+  spdlog::info("wrote {}", output);
+}
+
+void run_relax(const Scene& scene, const MembraneScene& m) {
+  CellSet cells(m.reference_lu, m.mechanics);
+  const double s = m.relax->initial_stretch;
+  Points x = m.reference_lu.nodes;
+  x.row(0) *= s;
+  x.row(1) /= s;
+  cells.add_cell(x);
+  const double v0 = enclosed_volume(m.reference_lu);
+  spdlog::info("relaxing a cell stretched by {} in x, 1/{} in y (volume {:+.3e} off)", s, s,
+               cells.volume(0) / v0 - 1);
+  const RelaxResult r = relax_overdamped(
+      cells, m.relax->options,
+      [](int step, double e, double fmax) {
+        spdlog::info("step {:6d}: energy {:.6e}, max node force {:.3e}", step, e, fmax);
+      },
+      1000);
+  const double err = (cells.positions().colwise() - cells.centroid(0) - m.reference_lu.nodes)
+                         .colwise()
+                         .norm()
+                         .maxCoeff();
+  spdlog::info(
+      "relaxed in {} steps: energy {:.3e}, max force {:.3e}, volume drift {:+.3e}, largest node "
+      "distance from rest shape {:.3e} dx",
+      r.steps, r.energy, r.max_force, cells.volume(0) / v0 - 1, err);
+  (void)scene;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dld-membrane: red-blood-cell membranes (meshes, models, contact; standalone runs)"};
+  std::string scene_path, output;
+  bool verbose = false;
+  app.add_option("scene", scene_path, "scene file (TOML)")->required();
+  app.add_option("-o,--output", output,
+                 "HDF5 output of standalone runs (default: the scene's output.file)");
+  app.add_flag("-v,--verbose", verbose, "debug logging");
+  CLI11_PARSE(app, argc, argv);
+  dld::setup_logging("dld-membrane", verbose);
+  try {
+    const dld::Scene scene = dld::load_scene(scene_path, false);
+    const MembraneScene m = read_membrane_scene(scene);
+    scene.document->reject_unknown({"coupling"});
+    spdlog::info("{}", m.describe(scene));
+    spdlog::info("mesh: {}", describe(mesh_quality(m.reference_lu)));
+    if (m.stretch) {
+      run_stretch(scene, m, output.empty() ? scene.output.file : output);
+    } else if (m.relax) {
+      run_relax(scene, m);
+    } else {
+      const CellSet cells = build_cells(m, scene);
+      spdlog::info(
+          "{} cells, Ht = {:.2f} % (no standalone task: coupled runs are started by dld-run)",
+          cells.cell_count(), 100.0 * haematocrit(cells, scene.cell_lu()));
+    }
+  } catch (const dld::InputError& e) {
+    std::fprintf(stderr, "dld-membrane: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

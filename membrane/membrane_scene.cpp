@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: MIT
+#include "membrane/membrane_scene.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "membrane/mesh_cache.hpp"
+
+namespace dld::membrane {
+namespace {
+
+/// An array of strings (TomlSection has no getter for it): read from the document and mark read.
+std::vector<std::string> strings(const Scene& scene, const TomlSection& s, std::string_view key) {
+  const toml::node* n = scene.document->root().at_path(s.path() + "." + std::string(key)).node();
+  if (!n) s.fail(key, "missing (required)");
+  scene.document->mark_read(s.path() + "." + std::string(key));
+  const toml::array* a = n->as_array();
+  if (!a || a->empty()) s.fail(key, "expected a non-empty array of strings");
+  std::vector<std::string> out;
+  for (const auto& v : *a) {
+    if (!v.is_string()) s.fail(key, "expected an array of strings");
+    out.push_back(*v.value<std::string>());
+  }
+  return out;
+}
+
+double shear_modulus(const Scene& scene, const TomlSection& m, double radius_um) {
+  const bool ca = m.has("capillary_number"), g = m.has("shear_modulus_N_per_m");
+  if (ca == g)
+    m.fail(ca ? "capillary_number" : "shear_modulus_N_per_m",
+           "give exactly one of capillary_number and shear_modulus_N_per_m");
+  if (g) return m.positive("shear_modulus_N_per_m");
+  const double cap = m.positive("capillary_number");
+  const double p = scene.drive.pressure_gradient_Pa_per_m;
+  if (!(p > 0.0))
+    m.fail("capillary_number", "needs a positive drive pressure gradient (Ca = p' l r / kappa_s)");
+  // SPEC section 4: Ca = p' l r / kappa_s with l = sqrt(G H).
+  const double l = std::sqrt(scene.cell_um.gap() * scene.cell_um.depth) * 1e-6;
+  return p * l * radius_um * 1e-6 / cap;
+}
+
+}  // namespace
+
+MembraneScene read_membrane_scene(const Scene& scene) {
+  MembraneScene out;
+  const TomlSection root = TomlSection::root(scene.document);
+  const TomlSection m = root.section("membrane");
+  const LatticeUnits units = scene.units();
+  const double dx = scene.lattice.dx_um;
+
+  out.shape_um.radius = m.in_range("radius_um", 0.5, 20.0, 3.9);
+  if (m.has("shape_coefficients")) {
+    const auto c = m.numbers("shape_coefficients");
+    if (c.size() != 3) m.fail("shape_coefficients", "expected three numbers [C0, C2, C4]");
+    out.shape_um.c0 = c[0], out.shape_um.c2 = c[1], out.shape_um.c4 = c[2];
+    for (int i = 0; i <= 100; ++i)
+      if (!(out.shape_um.half_thickness(out.shape_um.radius * i / 101.0) > 0.0))
+        m.fail("shape_coefficients",
+               "the shape must have positive thickness everywhere inside the rim");
+  }
+  const auto faces = m.integer("mesh_faces", 2000);
+  if (faces < 100 || faces > 50000)
+    m.fail("mesh_faces", fmt::format("expected 100..50000, got {}", faces));
+  out.mesh_faces = static_cast<int>(faces);
+  out.mesh_cache = m.string("mesh_cache", default_mesh_cache_dir());
+
+  out.kappa_s_N_per_m = shear_modulus(scene, m, out.shape_um.radius);
+  out.kappa_s_lu = units.modulus_lu(out.kappa_s_N_per_m);
+  out.radius_lu = out.shape_um.radius / dx;
+
+  EvansFungShape shape_lu = out.shape_um;
+  shape_lu.radius = out.radius_lu;
+  out.reference_lu = evans_fung_mesh(shape_lu, out.mesh_faces, out.mesh_cache);
+  out.reference_lu.nodes.colwise() -= centroid(out.reference_lu.nodes);
+
+  // kappa_alpha etc. given "in lattice units of the dx = 0.4 um lattice" (SPEC section 4) are
+  // converted through that lattice's units with this scene's tau and fluid.
+  const LatticeUnits ref(0.4e-6, scene.lattice.tau,
+                         scene.fluid.viscosity_Pa_s / scene.fluid.density_kg_m3,
+                         scene.fluid.density_kg_m3);
+  const ModelContext ctx{out.reference_lu, out.kappa_s_lu, out.radius_lu,
+                         units.modulus_lu(ref.modulus_n_m(1.0))};
+  std::vector<std::string> names = strings(scene, m, "models");
+  std::vector<AnyModel> models;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j)
+      if (names[j] == names[i])
+        m.fail("models", fmt::format("model '{}' is listed twice", names[i]));
+    models.push_back(make_model(names[i], m, "models", m.optional_section(names[i]), ctx));
+  }
+  out.mechanics = MembraneMechanics(names, std::move(models));
+
+  if (auto c = m.optional_section("contact")) {
+    ContactParams p;
+    p.range = c->positive("range_um") / dx;
+    p.strength = c->in_range("strength_rel", 0.0, 1e6) * out.kappa_s_lu * p.range * p.range;
+    p.walls = c->boolean("walls", true);
+    p.pillar = c->boolean("pillar", true);
+    p.cells = c->boolean("cells", true);
+    out.contact = p;
+  }
+
+  if (auto s = m.optional_section("stretch")) {
+    StretchTask t;
+    t.forces_pN = s->numbers("forces_pN");
+    if (t.forces_pN.empty()) s->fail("forces_pN", "expected at least one force");
+    for (double f : t.forces_pN)
+      if (!(f >= 0.0) || f > 1e4)
+        s->fail("forces_pN", fmt::format("forces must be in [0, 1e4] pN, got {}", f));
+    t.options.pulled_fraction = s->in_range("pulled_fraction", 0.001, 0.4, 0.05);
+    t.options.solver.max_iterations = static_cast<int>(s->integer("max_iterations", 50000));
+    // Converged when no node feels more than this fraction of kappa_s dx (a tiny force).
+    t.options.solver.gradient_tolerance = s->positive("tolerance_rel", 1e-6) * out.kappa_s_lu;
+    t.options.solver.max_step = 0.05;
+    t.output_csv = s->string("output_csv", "");
+    out.stretch = t;
+  }
+  if (auto r = m.optional_section("relax")) {
+    RelaxTask t;
+    t.initial_stretch = r->in_range("initial_stretch", 0.5, 2.0, 1.2);
+    t.options.max_steps = static_cast<int>(r->integer("max_steps", 20000));
+    if (t.options.max_steps < 1) r->fail("max_steps", "expected a positive integer");
+    // Mobility scaled so that a force kappa_s dx moves a node by time_step * 1e-2 dx per step
+    // at most; the step halves automatically if the energy would rise.
+    t.options.mobility = 1.0 / out.kappa_s_lu;
+    t.options.time_step = r->positive("time_step_rel", 0.05);
+    t.options.force_tolerance = r->positive("tolerance_rel", 1e-6) * out.kappa_s_lu;
+    out.relax = t;
+  }
+  if (out.stretch && out.relax)
+    m.fail(
+        "relax",
+        "a scene runs one standalone task: give [membrane.stretch] or [membrane.relax], not both");
+
+  if (auto cells = root.optional_section("cells")) {
+    for (const TomlSection& c : cells->sections("cell")) {
+      const auto p = c.numbers("centre_um");
+      if (p.size() != 3) c.fail("centre_um", "expected [x, y, z] in um");
+      out.centres_lu.emplace_back(p[0] / dx, p[1] / dx, p[2] / dx);
+      out.angles_rad.push_back(c.number("angle_deg", 0.0) * M_PI / 180.0);
+      const DldCell box = scene.cell_um;
+      if (p[2] < 0.0 || p[2] > box.depth) c.fail("centre_um", "z must lie between the walls");
+      if (box.inside_pillar(p[0], p[1])) c.fail("centre_um", "the centre lies inside the pillar");
+    }
+  }
+  return out;
+}
+
+CellSet build_cells(const MembraneScene& m, const Scene& scene) {
+  std::optional<Contact> contact;
+  if (m.contact) contact.emplace(scene.cell_lu(), *m.contact);
+  CellSet cells(m.reference_lu, m.mechanics, contact);
+  for (std::size_t k = 0; k < m.centres_lu.size(); ++k)
+    cells.add_cell(m.centres_lu[k], m.angles_rad[k]);
+  return cells;
+}
+
+double haematocrit(const CellSet& cells, const DldCell& box) {
+  double v = 0.0;
+  for (int k = 0; k < cells.cell_count(); ++k) v += cells.volume(k);
+  const double fluid = (box.lambda * box.lambda - M_PI * box.radius * box.radius) * box.depth;
+  return v / fluid;
+}
+
+std::string MembraneScene::describe(const Scene& scene) const {
+  const LatticeUnits u = scene.units();
+  std::string s = fmt::format(
+      "membrane: Evans-Fung r {} um ({:.4g} dx), C = ({}, {}, {}), {} faces requested, {} nodes/{} "
+      "faces "
+      "meshed\n",
+      shape_um.radius, radius_lu, shape_um.c0, shape_um.c2, shape_um.c4, mesh_faces,
+      reference_lu.node_count(), reference_lu.face_count());
+  s += fmt::format(
+      "  kappa_s {:.6g} N/m = {:.6g} lattice modulus; cell volume {:.6g} dx^3, area {:.6g} dx^2\n",
+      kappa_s_N_per_m, kappa_s_lu, enclosed_volume(reference_lu), surface_area(reference_lu));
+  for (const auto& model : mechanics.models()) s += "  " + membrane::describe(model) + "\n";
+  if (contact)
+    s += fmt::format(
+        "  contact: range {:.4g} dx, eps {:.6g} lattice energy (walls {}, pillar {}, cells {})\n",
+        contact->range, contact->strength, contact->walls, contact->pillar, contact->cells);
+  s += fmt::format("  cells: {} ; force unit {:.6g} pN per lattice force", centres_lu.size(),
+                   u.force_n(1.0) * 1e12);
+  return s;
+}
+
+}  // namespace dld::membrane

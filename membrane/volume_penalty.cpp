@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#include "membrane/volume_penalty.hpp"
+
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "shared/input_error.hpp"
+
+namespace dld::membrane {
+
+VolumePenalty::VolumePenalty(const TriMesh& reference, const VolumeParams& p)
+    : p_(p), faces_(reference.faces), v0_(enclosed_volume(reference)) {
+  if (!(p.kappa_v >= 0.0) || !std::isfinite(p.kappa_v))
+    throw InputError(fmt::format("volume model: kappa_V must be >= 0, got {}", p.kappa_v));
+  if (!(v0_ > 0.0))
+    throw InputError("volume model: the reference mesh encloses no positive volume");
+}
+
+double VolumePenalty::volume(const Eigen::Ref<const Points>& x) const {
+  double v = 0.0;
+  for (const Face& t : faces_) v += x.col(t[0]).dot(x.col(t[1]).cross(x.col(t[2])));
+  return v / 6.0;
+}
+
+double VolumePenalty::energy(const Eigen::Ref<const Points>& x) const {
+  const double dv = volume(x) - v0_;
+  return 0.5 * p_.kappa_v * dv * dv / v0_;
+}
+
+double VolumePenalty::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const {
+  const double dv = volume(x) - v0_;
+  // dV/dx0 = (x1 x x2)/6 and cyclically.
+  const double s = -p_.kappa_v * dv / v0_ / 6.0;
+  for (const Face& t : faces_) {
+    f.col(t[0]) += s * x.col(t[1]).cross(x.col(t[2]));
+    f.col(t[1]) += s * x.col(t[2]).cross(x.col(t[0]));
+    f.col(t[2]) += s * x.col(t[0]).cross(x.col(t[1]));
+  }
+  return 0.5 * p_.kappa_v * dv * dv / v0_;
+}
+
+}  // namespace dld::membrane
