@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cassert>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 
@@ -239,7 +240,7 @@ bool FluidSide::receive_steps() {
     for (std::size_t k : ready) {
       auto frame = peers_[k].channel->receive(std::chrono::milliseconds{0});
       assert(frame);
-      accept_frame(k, *frame);
+      accept_frame(k, std::move(*frame));
       std::erase(pending, k);
     }
   }
@@ -264,8 +265,11 @@ bool FluidSide::receive_steps() {
   return true;
 }
 
-void FluidSide::accept_frame(std::size_t k, const zmq::message_t& frame) {
+void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
   Peer& peer = peers_[k];
+  // Keep the frame first: a small message's bytes live inside the message object and move with it.
+  peer.last_frame = std::move(received);
+  const zmq::message_t& frame = peer.last_frame;
   const Link link{kSelf, peer.label};
   const FrameHeader header = read_header(frame, link, step_);
   switch (header.type) {
@@ -286,19 +290,29 @@ void FluidSide::accept_frame(std::size_t k, const zmq::message_t& frame) {
     throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
   }
   const std::byte* data = read_nodes(frame, header, peer.nodes, 2, link);
-  const std::size_t bytes = 3 * peer.nodes * sizeof(double);
-  std::memcpy(positions_.data() + 3 * peer.first_node, data, bytes);
-  std::memcpy(forces_.data() + 3 * peer.first_node, data + bytes, bytes);
+  const std::size_t values = 3 * peer.nodes;
+  if (peers_.size() == 1 && reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
+    // The frame's bytes are the doubles the membrane sent (same layout, little-endian host).
+    const auto* doubles = reinterpret_cast<const double*>(data);
+    positions_view_ = {doubles, values};
+    forces_view_ = {doubles + values, values};
+    return;
+  }
+  std::memcpy(positions_.data() + 3 * peer.first_node, data, values * sizeof(double));
+  std::memcpy(forces_.data() + 3 * peer.first_node, data + values * sizeof(double),
+              values * sizeof(double));
+  positions_view_ = positions_;
+  forces_view_ = forces_;
 }
 
 std::span<const double> FluidSide::positions() const {
   check_call(kSelf, "positions()", state_, {State::have_step});
-  return positions_;
+  return positions_view_;
 }
 
 std::span<const double> FluidSide::forces() const {
   check_call(kSelf, "forces()", state_, {State::have_step});
-  return forces_;
+  return forces_view_;
 }
 
 void FluidSide::send_velocities(std::span<const double> velocities) {
@@ -310,7 +324,7 @@ void FluidSide::send_velocities(std::span<const double> velocities) {
   guarded([&] {
     for (Peer& peer : peers_) {
       zmq::message_t frame =
-          encode_velocities(step_, velocities.subspan(3 * peer.first_node, 3 * peer.nodes));
+          encode_velocities(step_, velocities.subspan(3 * peer.first_node, 3 * peer.nodes), &pool_);
       if (!peer.channel->send(frame)) {
         throw CouplerError(fmt::format("{}: {} did not take the velocities of step {} within {} s",
                                        kSelf, peer.label, step_, seconds(config_.options.timeout)));

@@ -21,6 +21,7 @@
 #include <zmq.hpp>
 
 #include "coupler/channel.hpp"
+#include "coupler/frame_pool.hpp"
 #include "coupler/handshake.hpp"
 #include "coupler/options.hpp"
 #include "coupler/state.hpp"
@@ -53,7 +54,8 @@ class FluidSide {
   /// Waits for step step() from every peer. False when all peers sent shutdown instead.
   [[nodiscard]] bool receive();
   /// Concatenated node positions and forces of the received step: 3 x node_count() doubles,
-  /// node-major (x0 y0 z0 x1 ...). Valid until the next receive().
+  /// node-major (x0 y0 z0 x1 ...). Valid until the next receive(). With one peer they point
+  /// into the received frame itself (no copy); with several, into one concatenated array.
   std::span<const double> positions() const;
   std::span<const double> forces() const;
   /// Velocities for exactly the received nodes (3 x node_count()); completes the step.
@@ -83,13 +85,14 @@ class FluidSide {
     std::size_t first_node = 0;
     std::size_t nodes = 0;
     bool shut_down = false;
+    zmq::message_t last_frame;  // kept so that positions()/forces() may point into it
   };
 
   void open(zmq::context_t& context);
   void receive_hellos();
   void check_hellos();
   bool receive_steps();
-  void accept_frame(std::size_t k, const zmq::message_t& frame);
+  void accept_frame(std::size_t k, zmq::message_t frame);
   /// Indices of peers for which a frame is waiting, within the deadline; empty on timeout.
   std::vector<std::size_t> poll(const std::vector<std::size_t>& pending,
                                 std::chrono::steady_clock::time_point deadline);
@@ -104,8 +107,11 @@ class FluidSide {
   State state_ = State::created;
   std::uint64_t step_ = 0;
   std::vector<std::uint32_t> cell_nodes_;
-  std::vector<double> positions_;
+  std::vector<double> positions_;  // concatenation target when the frames cannot be viewed
   std::vector<double> forces_;
+  std::span<const double> positions_view_;
+  std::span<const double> forces_view_;
+  FramePool pool_;  // velocity frames
 };
 
 }  // namespace dld::coupler

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "coupler/error.hpp"
+#include "coupler/frame_pool.hpp"
 
 namespace dld::coupler {
 
@@ -47,14 +48,17 @@ std::string_view to_string(FrameType type) {
   return "unknown";
 }
 
-zmq::message_t make_frame(FrameType type, std::uint64_t step, std::size_t payload_bytes) {
-  zmq::message_t frame(kHeaderBytes + payload_bytes);
-  auto* at = static_cast<std::byte*>(frame.data());
+void write_header(std::byte* at, FrameType type, std::uint64_t step, std::size_t payload_bytes) {
   put(at + 0, kMagic);
   put(at + 4, kProtocolVersion);
   put(at + 6, static_cast<std::uint16_t>(type));
   put(at + 8, step);
   put(at + 16, static_cast<std::uint64_t>(payload_bytes));
+}
+
+zmq::message_t make_frame(FrameType type, std::uint64_t step, std::size_t payload_bytes) {
+  zmq::message_t frame(kHeaderBytes + payload_bytes);
+  write_header(static_cast<std::byte*>(frame.data()), type, step, payload_bytes);
   return frame;
 }
 
@@ -66,10 +70,11 @@ const std::byte* payload(const zmq::message_t& frame) {
 }
 
 zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions,
-                           std::span<const double> forces) {
+                           std::span<const double> forces, FramePool* pool) {
   assert(positions.size() == forces.size() && positions.size() % 3 == 0);
   const std::size_t nodes = positions.size() / 3;
-  zmq::message_t frame = make_frame(FrameType::step, step, step_payload_bytes(nodes));
+  zmq::message_t frame = pool ? pool->make(FrameType::step, step, step_payload_bytes(nodes))
+                              : make_frame(FrameType::step, step, step_payload_bytes(nodes));
   std::byte* at = payload(frame);
   put(at, static_cast<std::uint64_t>(nodes));
   std::memcpy(at + 8, positions.data(), positions.size_bytes());
@@ -77,10 +82,13 @@ zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions
   return frame;
 }
 
-zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities) {
+zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
+                                 FramePool* pool) {
   assert(velocities.size() % 3 == 0);
   const std::size_t nodes = velocities.size() / 3;
-  zmq::message_t frame = make_frame(FrameType::velocities, step, velocities_payload_bytes(nodes));
+  const std::size_t bytes = velocities_payload_bytes(nodes);
+  zmq::message_t frame = pool ? pool->make(FrameType::velocities, step, bytes)
+                              : make_frame(FrameType::velocities, step, bytes);
   std::byte* at = payload(frame);
   put(at, static_cast<std::uint64_t>(nodes));
   std::memcpy(at + 8, velocities.data(), velocities.size_bytes());

@@ -12,6 +12,8 @@
 
 namespace dld::coupler {
 
+class FramePool;
+
 static_assert(std::endian::native == std::endian::little,
               "the frame codec copies doubles and integers as they lie in memory");
 
@@ -50,15 +52,19 @@ constexpr std::size_t velocities_payload_bytes(std::size_t nodes) {
   return 8 + 3 * 8 * nodes;
 }
 
+/// Writes the 24-byte header at `at`.
+void write_header(std::byte* at, FrameType type, std::uint64_t step, std::size_t payload_bytes);
 /// A message of header + payload_bytes whose payload the caller fills (one allocation, no copy).
 zmq::message_t make_frame(FrameType type, std::uint64_t step, std::size_t payload_bytes);
 std::byte* payload(zmq::message_t& frame);
 const std::byte* payload(const zmq::message_t& frame);
 
-/// positions and forces: 3 N doubles each, node-major (x0 y0 z0 x1 ...).
+/// positions and forces: 3 N doubles each, node-major (x0 y0 z0 x1 ...). With a pool, the frame
+/// reuses one of its buffers instead of a fresh allocation.
 zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions,
-                           std::span<const double> forces);
-zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities);
+                           std::span<const double> forces, FramePool* pool = nullptr);
+zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
+                                 FramePool* pool = nullptr);
 zmq::message_t encode_shutdown(std::uint64_t step);
 zmq::message_t encode_error(std::uint64_t step, std::string_view message);
 

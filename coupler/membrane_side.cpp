@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -123,14 +124,27 @@ void MembraneSide::check_welcome(const Handshake& welcome) {
 bool MembraneSide::advance(std::span<const double> positions, std::span<const double> forces,
                            std::span<double> velocities) {
   check_call(self_, "advance()", state_, {State::running});
-  if (positions.size() != 3 * nodes_ || forces.size() != 3 * nodes_ ||
-      velocities.size() != 3 * nodes_) {
-    throw std::invalid_argument(
-        fmt::format("{}: advance() given {}/{}/{} position/force/velocity values for {} nodes",
-                    self_, positions.size(), forces.size(), velocities.size(), nodes_));
+  if (velocities.size() != 3 * nodes_) {
+    throw std::invalid_argument(fmt::format("{}: advance() given {} velocity values for {} nodes",
+                                            self_, velocities.size(), nodes_));
   }
-  return guarded([&] {
-    zmq::message_t frame = encode_step(step_, positions, forces);
+  const auto received = exchange(positions, forces);
+  if (!received) return false;
+  std::memcpy(velocities.data(), received->data(), received->size_bytes());
+  return true;
+}
+
+std::optional<std::span<const double>> MembraneSide::exchange(std::span<const double> positions,
+                                                              std::span<const double> forces) {
+  check_call(self_, "advance()", state_, {State::running});
+  if (positions.size() != 3 * nodes_ || forces.size() != 3 * nodes_) {
+    throw std::invalid_argument(
+        fmt::format("{}: advance() given {}/{} position/force values for "
+                    "{} nodes",
+                    self_, positions.size(), forces.size(), nodes_));
+  }
+  return guarded([&]() -> std::optional<std::span<const double>> {
+    zmq::message_t frame = encode_step(step_, positions, forces, &pool_);
     if (!channel_->send(frame)) {
       throw CouplerError(fmt::format("{}: the fluid did not take step {} within {} s", self_, step_,
                                      seconds(config_.options.timeout)));
@@ -141,16 +155,18 @@ bool MembraneSide::advance(std::span<const double> positions, std::span<const do
           "{}: no velocities from the fluid within {} s at step {} (fluid dead or hung?)", self_,
           seconds(config_.options.timeout), step_));
     }
+    // Keep the frame first: a small message's bytes live inside the message object.
+    reply_ = std::move(*reply);
     const Link link{self_, kFluid};
-    const FrameHeader header = read_header(*reply, link, step_);
+    const FrameHeader header = read_header(reply_, link, step_);
     switch (header.type) {
       case FrameType::error:
         throw CouplerError(fmt::format("{}: fluid reported an error at step {}: {}", self_,
-                                       header.step, read_error_text(*reply, header)));
+                                       header.step, read_error_text(reply_, header)));
       case FrameType::shutdown:
         state_ = State::ended;
         spdlog::debug("coupler: fluid ended the run at step {}", step_);
-        return false;
+        return std::nullopt;
       case FrameType::velocities:
         break;
       default:
@@ -161,10 +177,14 @@ bool MembraneSide::advance(std::span<const double> positions, std::span<const do
     if (header.step != step_) {
       throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
     }
-    const std::byte* data = read_nodes(*reply, header, nodes_, 1, link);
-    std::memcpy(velocities.data(), data, velocities.size_bytes());
+    const std::byte* data = read_nodes(reply_, header, nodes_, 1, link);
     ++step_;
-    return true;
+    if (reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
+      return std::span<const double>(reinterpret_cast<const double*>(data), 3 * nodes_);
+    }
+    unaligned_.resize(3 * nodes_);
+    std::memcpy(unaligned_.data(), data, unaligned_.size() * sizeof(double));
+    return std::span<const double>(unaligned_);
   });
 }
 

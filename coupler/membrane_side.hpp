@@ -14,6 +14,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -21,6 +22,7 @@
 #include <zmq.hpp>
 
 #include "coupler/channel.hpp"
+#include "coupler/frame_pool.hpp"
 #include "coupler/handshake.hpp"
 #include "coupler/options.hpp"
 #include "coupler/state.hpp"
@@ -54,6 +56,10 @@ class MembraneSide {
   /// Returns false, writing nothing, if the fluid ended the run instead.
   [[nodiscard]] bool advance(std::span<const double> positions, std::span<const double> forces,
                              std::span<double> velocities);
+  /// The same exchange without the last copy: the velocities are returned as a view into the
+  /// received frame, valid until the next call; nothing if the fluid ended the run.
+  [[nodiscard]] std::optional<std::span<const double>> exchange(std::span<const double> positions,
+                                                                std::span<const double> forces);
   void finalize();
   /// Stops the run because of an error of the membrane program: the fluid receives `message`, and
   /// through it every other membrane peer. The side is failed afterwards.
@@ -77,6 +83,9 @@ class MembraneSide {
   State state_ = State::created;
   std::uint64_t step_ = 0;
   std::size_t nodes_ = 0;
+  FramePool pool_;                 // step frames
+  zmq::message_t reply_;           // the last velocities frame, viewed by exchange()
+  std::vector<double> unaligned_;  // copy target if a frame's doubles are not aligned
 };
 
 }  // namespace dld::coupler
