@@ -1,13 +1,39 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/bounce_back.hpp"
 
+#include <algorithm>
+
 namespace dld::fluid {
+namespace {
+
+// Wall below plane k = 0 (sign +1: populations moving up are pulled from the ghost plane) or
+// above plane k = nz-1 (sign -1). For each such direction q, the slots (q, f - c_q) of the whole
+// ghost plane receive (opp q, f) for every node f of the adjacent plane: one contiguous copy.
+// Rows are copied together with the ghost columns between them; those extra slots are pulled,
+// in the linear index, only by ghost nodes, which are never updated.
+void wall_plane(const Lattice& L, double* f, int k, int sign) {
+  const std::size_t n = L.padded_size();
+  const std::size_t first = L.index(0, 0, k);
+  const std::size_t count = L.index(L.nx() - 1, L.ny() - 1, k) - first + 1;
+  for (int q = 1; q < D3Q19::q; ++q) {
+    if (D3Q19::c[q][2] != sign) continue;
+    const double* src = f + D3Q19::opp[q] * n + first;
+    double* dst = f + q * n + first - L.offset(q);
+    std::copy(src, src + count, dst);
+  }
+}
+
+}  // namespace
 
 void apply_bounce_back(const Lattice& lattice, double* f) {
   const auto& links = lattice.links();
   const std::size_t count = links.size();
 #pragma omp parallel for schedule(static)
   for (std::size_t l = 0; l < count; ++l) f[links[l].target] = f[links[l].source];
+  if (lattice.domain().walls_z) {
+    wall_plane(lattice, f, 0, +1);
+    wall_plane(lattice, f, lattice.nz() - 1, -1);
+  }
 }
 
 }  // namespace dld::fluid

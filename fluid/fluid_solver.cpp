@@ -20,7 +20,7 @@ FluidConfig fluid_config(const Scene& scene) {
 FluidSolver::FluidSolver(const FluidConfig& config)
     : config_(config), lattice_(config.domain), force_y_(config.force_y) {
   const std::size_t n = lattice_.padded_size();
-  f_.assign(n * D3Q19::q, 0.0);
+  f_.assign(n * D3Q19::q + kPopulationPadding, 0.0);
   for (int i = 0; i < D3Q19::q; ++i)
     for (std::size_t s = 0; s < n; ++s)
       if (!lattice_.solid_mask()[s]) f_[i * n + s] = D3Q19::w[i] * config.rho0;

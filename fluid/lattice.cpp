@@ -55,6 +55,8 @@ Lattice::Lattice(Domain domain) : domain_(std::move(domain)) {
         for (int q = 1; q < D3Q19::q; ++q) {
           std::size_t s = f - offsets_[q];  // the node this one pulls direction q from
           if (!solid_[s]) continue;
+          // Wall planes are handled as whole-plane copies (apply_bounce_back), not links.
+          if (domain_.walls_z && (k - D3Q19::c[q][2] < 0 || k - D3Q19::c[q][2] >= nz())) continue;
           links_.push_back({static_cast<std::uint32_t>(q * padded_ + s),
                             static_cast<std::uint32_t>(D3Q19::opp[q] * padded_ + f)});
         }

@@ -49,6 +49,7 @@ class Lattice {
   bool solid(int i, int j, int k) const { return solid_[index(i, j, k)] != 0; }
   const std::vector<std::uint8_t>& solid_mask() const { return solid_; }
   const std::vector<Segment>& segments() const { return segments_; }
+  /// Links to solid nodes inside the box (pillars); the z walls are whole planes instead.
   const std::vector<BounceBackLink>& links() const { return links_; }
   std::size_t fluid_nodes() const { return fluid_nodes_; }
 

@@ -3,8 +3,14 @@
 // (structure of arrays, stride padded_size): read the post-collision values of the neighbours in
 // `src`, collide, write to `dst`. Compile-time switches keep the optional per-node force and
 // relaxation-time fields out of the loop when a scene has none (no cost unless used).
+//
+// Vectorisation: runs are cut into blocks of kLanes consecutive nodes; within a block the 19
+// directions are unrolled at compile time (the velocity components become constants), and the
+// loop over lanes is a plain SIMD loop; a run's last block is masked.
+// The population arrays must extend kPopulationPadding values past the last node (see below).
 #pragma once
 #include <cstddef>
+#include <utility>
 
 #include "fluid/collision.hpp"
 #include "fluid/lattice.hpp"
@@ -24,9 +30,101 @@ struct KernelParams {
   const double* tau_field = nullptr;                         ///< per node relaxation time
 };
 
+/// Values allocated past the end of a population array so masked lanes can read safely.
+inline constexpr std::size_t kPopulationPadding = 64;
+
+namespace detail {
+
+template <int I, int A>
+inline constexpr double kC = static_cast<double>(D3Q19::c[I][A]);
+
+/// Updates `count` <= kW consecutive nodes starting at padded index `node`. Lanes past `count`
+/// read (padded, allocated) memory and compute throw-away values that are neither stored nor
+/// summed, so a run's tail costs one masked block instead of a scalar loop.
+template <typename Collision, bool kForceField, bool kTauField, int kW>
+inline void update_block(const double* __restrict src, double* __restrict dst, std::size_t n,
+                         const std::ptrdiff_t* off, std::size_t node, int count, const KernelParams& p,
+                         double op_uniform, double om_uniform, FlowSums& acc) {
+  // Per-direction base pointers make every access unit-stride in the lane index (no gathers).
+  const double* in[D3Q19::q];
+  double* out[D3Q19::q];
+  for (int i = 0; i < D3Q19::q; ++i) {
+    in[i] = src + i * n + node - off[i];
+    out[i] = dst + i * n + node;
+  }
+  const double* force_x = kForceField ? p.force_field[0] + node : nullptr;
+  const double* force_y = kForceField ? p.force_field[1] + node : nullptr;
+  const double* force_z = kForceField ? p.force_field[2] + node : nullptr;
+  const double* tau = kTauField ? p.tau_field + node : nullptr;
+  double mass = 0, mx = 0, my = 0, mz = 0;
+#pragma omp simd reduction(+ : mass, mx, my, mz)
+  for (int l = 0; l < kW; ++l) {
+    double f[D3Q19::q];
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      ((f[I] = in[I][l]), ...);
+    }(std::make_integer_sequence<int, D3Q19::q>{});
+    double fx = p.force[0], fy = p.force[1], fz = p.force[2];
+    if constexpr (kForceField) {
+      fx += force_x[l];
+      fy += force_y[l];
+      fz += force_z[l];
+    }
+    double op = op_uniform, om = om_uniform;
+    if constexpr (kTauField) {
+      const auto r = Collision::rates(tau[l], p.magic);
+      op = r.plus;
+      om = r.minus;
+    }
+    double rho = 0, jx = 0, jy = 0, jz = 0;
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      ((rho += f[I]), ...);
+      ((jx += kC<I, 0> * f[I]), ...);
+      ((jy += kC<I, 1> * f[I]), ...);
+      ((jz += kC<I, 2> * f[I]), ...);
+    }(std::make_integer_sequence<int, D3Q19::q>{});
+    const double inv = 1.0 / rho;
+    const double ux = (jx + 0.5 * fx) * inv, uy = (jy + 0.5 * fy) * inv, uz = (jz + 0.5 * fz) * inv;
+    const double uu = ux * ux + uy * uy + uz * uz;
+    const double uf = ux * fx + uy * fy + uz * fz;
+    const double kp = 1.0 - 0.5 * op, km = 1.0 - 0.5 * om;
+    // Same algebra as collide() in collision.hpp, with the directions unrolled.
+    const bool live = l < count;
+    if (live) out[0][l] = f[0] - op * (f[0] - D3Q19::w[0] * rho * (1.0 - 1.5 * uu)) + kp * D3Q19::w[0] * (-3.0 * uf);
+    auto pair = [&]<int I>(std::integer_sequence<int, I>) {
+      constexpr double w = D3Q19::w[I];
+      const double cu = kC<I, 0> * ux + kC<I, 1> * uy + kC<I, 2> * uz;
+      const double cf = kC<I, 0> * fx + kC<I, 1> * fy + kC<I, 2> * fz;
+      const double feq_p = w * rho * (1.0 + 4.5 * cu * cu - 1.5 * uu);
+      const double feq_m = w * rho * 3.0 * cu;
+      const double fp = 0.5 * (f[I] + f[I + 1]);
+      const double fm = 0.5 * (f[I] - f[I + 1]);
+      const double dp = -op * (fp - feq_p) + kp * w * (9.0 * cu * cf - 3.0 * uf);
+      const double dm = -om * (fm - feq_m) + km * w * 3.0 * cf;
+      if (live) {
+        out[I][l] = f[I] + dp + dm;
+        out[I + 1][l] = f[I + 1] + dp - dm;
+      }
+    };
+    [&]<int... K>(std::integer_sequence<int, K...>) {
+      (pair(std::integer_sequence<int, 2 * K + 1>{}), ...);
+    }(std::make_integer_sequence<int, (D3Q19::q - 1) / 2>{});
+    mass += live ? rho : 0.0;
+    mx += live ? jx + 0.5 * fx : 0.0;
+    my += live ? jy + 0.5 * fy : 0.0;
+    mz += live ? jz + 0.5 * fz : 0.0;
+  }
+  acc.mass += mass;
+  acc.momentum_x += mx;
+  acc.momentum_y += my;
+  acc.momentum_z += mz;
+}
+
+}  // namespace detail
+
 template <typename Collision, bool kForceField, bool kTauField>
 FlowSums stream_collide(const Lattice& L, const double* __restrict src, double* __restrict dst,
                         const KernelParams& p) {
+  constexpr int kLanes = 8;
   const std::size_t n = L.padded_size();
   const auto& segs = L.segments();
   const auto rates = Collision::rates(p.tau, p.magic);
@@ -34,35 +132,17 @@ FlowSums stream_collide(const Lattice& L, const double* __restrict src, double* 
   for (int i = 0; i < D3Q19::q; ++i) off[i] = L.offset(i);
   double mass = 0, mx = 0, my = 0, mz = 0;
 #pragma omp parallel for schedule(static) reduction(+ : mass, mx, my, mz)
-  for (std::size_t s = 0; s < segs.size(); ++s) {
-    const std::size_t b = segs[s].begin;
-    const int len = segs[s].length;
-#pragma omp simd reduction(+ : mass, mx, my, mz)
-    for (int x = 0; x < len; ++x) {
-      const std::size_t node = b + static_cast<std::size_t>(x);
-      double f[D3Q19::q];
-#pragma GCC unroll 19
-      for (int i = 0; i < D3Q19::q; ++i) f[i] = src[i * n + node - off[i]];
-      double fx = p.force[0], fy = p.force[1], fz = p.force[2];
-      if constexpr (kForceField) {
-        fx += p.force_field[0][node];
-        fy += p.force_field[1][node];
-        fz += p.force_field[2][node];
-      }
-      double op = rates.plus, om = rates.minus;
-      if constexpr (kTauField) {
-        const auto r = Collision::rates(p.tau_field[node], p.magic);
-        op = r.plus;
-        om = r.minus;
-      }
-      const Moments m = collide(f, op, om, fx, fy, fz);
-#pragma GCC unroll 19
-      for (int i = 0; i < D3Q19::q; ++i) dst[i * n + node] = f[i];
-      mass += m.rho;
-      mx += m.rho * m.ux;
-      my += m.rho * m.uy;
-      mz += m.rho * m.uz;
-    }
+  for (std::size_t k = 0; k < segs.size(); ++k) {
+    FlowSums acc;
+    std::size_t node = segs[k].begin;
+    int len = segs[k].length;
+    for (; len > 0; len -= kLanes, node += kLanes)
+      detail::update_block<Collision, kForceField, kTauField, kLanes>(
+          src, dst, n, off, node, len < kLanes ? len : kLanes, p, rates.plus, rates.minus, acc);
+    mass += acc.mass;
+    mx += acc.momentum_x;
+    my += acc.momentum_y;
+    mz += acc.momentum_z;
   }
   return {mass, mx, my, mz};
 }

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+// Fluid update rate (MLUPS = million fluid-node updates per second) of the production kernel on
+// the 80x80x12 DLD cell and a 128^3 periodic box, next to the naive baseline loop, with 1 and 2
+// OpenMP threads; and the roofline this machine's memory bandwidth allows for our scheme.
+// Run: build/bench/fluid/bench_fluid   (figures go to docs/performance.md)
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <cstdio>
+
+#include "fluid/fluid_solver.hpp"
+#include "memory_bandwidth.hpp"
+#include "naive_bgk.hpp"
+#include "shared/scene.hpp"
+
+namespace {
+
+using dld::fluid::FluidConfig;
+using dld::fluid::FluidSolver;
+
+// Two arrays of 19 doubles: each update reads 19 values and writes 19 (+19 write-allocate reads
+// where the hardware does not avoid them).
+constexpr double kBytesPerUpdate = 2 * 19 * 8;
+
+FluidConfig dld_config() {
+  const dld::Scene s = dld::parse_scene(R"(
+[scene]
+name = "bench"
+[geometry]
+pillar_radius_um = 10.0
+pillar_spacing_um = 32.0
+depth_um = 4.8
+row_shift_um = 4.4
+[lattice]
+dx_um = 0.4
+[drive]
+reynolds = 0.1
+)",
+                                        "bench.toml");
+  return dld::fluid::fluid_config(s);
+}
+
+FluidConfig periodic_box(int n) {
+  FluidConfig c;
+  c.domain.nx = c.domain.ny = c.domain.nz = n;
+  c.domain.walls_z = false;
+  c.force_x = 1e-6;
+  return c;
+}
+
+void report(benchmark::State& state, double nodes) {
+  state.counters["MLUPS"] =
+      benchmark::Counter(nodes * static_cast<double>(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
+}
+
+void BM_DldCell(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  for (int i = 0; i < 20; ++i) s.step();
+  for (auto _ : state) s.step();
+  report(state, static_cast<double>(s.lattice().fluid_nodes()));
+}
+BENCHMARK(BM_DldCell)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_PeriodicBox128(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(periodic_box(128));
+  for (int i = 0; i < 3; ++i) s.step();
+  for (auto _ : state) s.step();
+  report(state, static_cast<double>(s.lattice().fluid_nodes()));
+}
+BENCHMARK(BM_PeriodicBox128)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_NaiveBgkBox128(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  dld::bench::NaiveBgk s(128, 128, 128, 1.0);
+  s.step();
+  for (auto _ : state) s.step();
+  report(state, static_cast<double>(s.nodes()));
+}
+BENCHMARK(BM_NaiveBgkBox128)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+void BM_MemoryBandwidth(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  double bw = 0;
+  for (auto _ : state) bw = dld::bench::measured_bandwidth_gb_s();
+  state.counters["GB/s"] = bw;
+  state.counters["roofline_MLUPS"] = bw * 1e9 / kBytesPerUpdate / 1e6;
+}
+BENCHMARK(BM_MemoryBandwidth)->Arg(1)->Arg(2)->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::printf("bytes moved per node update (two arrays, double): %.0f (+%.0f if write-allocate)\n",
+              kBytesPerUpdate, kBytesPerUpdate / 2);
+  std::printf("fluid state: %.0f bytes per node (two populations arrays of 19 doubles)\n", kBytesPerUpdate);
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
