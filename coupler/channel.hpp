@@ -5,11 +5,16 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <vector>
 #include <zmq.hpp>
 
 #include "coupler/options.hpp"
 
 namespace dld::coupler {
+
+/// zmq::poll until one item is ready or the deadline passes (0 then); a signal does not cut the
+/// wait short.
+int poll_for(std::vector<zmq::pollitem_t>& items, std::chrono::steady_clock::time_point deadline);
 
 class Channel {
  public:

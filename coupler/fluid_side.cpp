@@ -123,13 +123,7 @@ std::vector<std::size_t> FluidSide::poll(const std::vector<std::size_t>& pending
   for (std::size_t k : pending) {
     items.push_back({static_cast<void*>(peers_[k].channel->socket()), 0, ZMQ_POLLIN, 0});
   }
-  for (;;) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    const int ready = zmq::poll(items, std::max(left, std::chrono::milliseconds{0}));
-    if (ready > 0) break;
-    if (left.count() <= 0) return {};
-  }
+  if (poll_for(items, deadline) == 0) return {};
   std::vector<std::size_t> ready;
   for (std::size_t i = 0; i < items.size(); ++i) {
     if (items[i].revents & ZMQ_POLLIN) ready.push_back(pending[i]);

@@ -135,3 +135,68 @@ TEST(CoupledRun, RestartStartsAtTheAgreedStep) {
 
 }  // namespace
 }  // namespace dld::coupler::test
+
+namespace dld::coupler::test {
+namespace {
+
+CurveKeys make_keys() {
+  char server_public[41], server_secret[41], client_public[41], client_secret[41];
+  if (zmq_curve_keypair(server_public, server_secret) != 0 ||
+      zmq_curve_keypair(client_public, client_secret) != 0) {
+    throw std::runtime_error("zmq_curve_keypair failed");
+  }
+  return {server_public, server_secret, client_public, client_secret};
+}
+
+TEST(Curve, AuthenticatedTcpRunIsBitExact) {
+  if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
+  const CurveKeys keys = make_keys();
+  Options fluid_options = test_options();
+  fluid_options.curve = CurveKeys{keys.server_public, keys.server_secret, "", ""};
+  Options membrane_options = test_options();
+  membrane_options.curve =
+      CurveKeys{keys.server_public, "", keys.client_public, keys.client_secret};
+  FluidSide fluid({test_scene(1), {"tcp://127.0.0.1:*"}, {}, fluid_options});
+  std::vector<double> received;
+  std::thread membrane_thread([&] {
+    MembraneSide m(
+        {test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {3}, membrane_options});
+    m.initialize();
+    std::vector<double> x(9), f(9, 0.5), u(9);
+    fill_nodes(0, 0, x, f);
+    ASSERT_TRUE(m.advance(x, f, u));
+    received = u;
+    m.finalize();
+  });
+  fluid.initialize();
+  ASSERT_TRUE(fluid.receive());
+  std::vector<double> u;
+  dummy_velocities(0, fluid.positions(), fluid.forces(), u);
+  fluid.send_velocities(u);
+  EXPECT_FALSE(fluid.receive());
+  fluid.finalize();
+  membrane_thread.join();
+  EXPECT_EQ(received, u);
+}
+
+TEST(Curve, WrongServerKeyNeverGetsIn) {
+  if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
+  const CurveKeys keys = make_keys();
+  const CurveKeys other = make_keys();
+  Options fluid_options = test_options(300ms);
+  fluid_options.curve = CurveKeys{keys.server_public, keys.server_secret, "", ""};
+  Options membrane_options = test_options(300ms);
+  membrane_options.curve =
+      CurveKeys{other.server_public, "", keys.client_public, keys.client_secret};
+  FluidSide fluid({test_scene(1), {"tcp://127.0.0.1:*"}, {}, fluid_options});
+  std::thread membrane_thread([&] {
+    MembraneSide m(
+        {test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {3}, membrane_options});
+    EXPECT_THROW(m.initialize(), CouplerError);
+  });
+  EXPECT_THROW(fluid.initialize(), CouplerError);  // no hello ever arrives
+  membrane_thread.join();
+}
+
+}  // namespace
+}  // namespace dld::coupler::test
