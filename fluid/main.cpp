@@ -2,6 +2,7 @@
 // dld-fluid: runs a fluid-only scene (no membrane process) and reports the streamline separation
 // distance of the DLD cell.
 #include <omp.h>
+#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -45,7 +46,11 @@ int main(int argc, char** argv) {
     fmt::print("separation distance s = {:.4f} um (band carrying eps = d/lambda = {:.5f} of the gap flux)\n",
                r.separation_um, scene.cell_um.shift / scene.cell_um.lambda);
     fmt::print("relative mass change {:.2e}; {:.1f} MLUPS\n", r.relative_mass_change, r.mlups);
-    fmt::print("wrote {}\n", r.output);
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    fmt::print("peak resident memory {:.1f} MiB\n", usage.ru_maxrss / 1024.0);
+    fmt::print("wrote {} (open {} in ParaView)\n", r.output,
+               r.output.substr(0, r.output.rfind('.')) + ".xmf");
     return 0;
   } catch (const dld::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
