@@ -89,7 +89,10 @@ std::string TomlSection::full(std::string_view key) const {
   return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
 }
 
-const toml::node* TomlSection::node(std::string_view key) const { return table_->get(key); }
+const toml::node* TomlSection::node(std::string_view key) const {
+  doc_->mark_queried(full(key));
+  return table_->get(key);
+}
 
 bool TomlSection::has(std::string_view key) const { return node(key) != nullptr; }
 

@@ -28,6 +28,10 @@ class TomlDocument {
   const toml::table& root() const { return root_; }
   void mark_read(const std::string& full_key) { read_.insert(full_key); }
   bool was_read(const std::string& full_key) const { return read_.count(full_key) != 0; }
+  /// Every key a reader asked for, present in the file or not: the reader's vocabulary, which
+  /// the tests compare with docs/scene-keys.md.
+  void mark_queried(const std::string& full_key) { queried_.insert(full_key); }
+  const std::set<std::string>& queried() const { return queried_; }
 
   /// Throws an InputError naming the first key that no reader consumed. Top-level tables in
   /// `owned_elsewhere` are skipped (another program reads and checks them).
@@ -37,6 +41,7 @@ class TomlDocument {
   std::string file_;
   toml::table root_;
   std::set<std::string> read_;
+  std::set<std::string> queried_;
 };
 
 /// One table of a TomlDocument. Each getter marks the key as read.
