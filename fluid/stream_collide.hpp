@@ -41,7 +41,7 @@ inline constexpr double kC = static_cast<double>(D3Q19::c[I][A]);
 /// Updates `count` <= kW consecutive nodes starting at padded index `node`. Lanes past `count`
 /// read (padded, allocated) memory and compute throw-away values that are neither stored nor
 /// summed, so a run's tail costs one masked block instead of a scalar loop.
-template <typename Collision, bool kForceField, bool kTauField, int kW>
+template <typename Collision, bool kForceField, bool kTauField, int kW, bool kMasked>
 inline void update_block(const double* __restrict src, double* __restrict dst, std::size_t n,
                          const std::ptrdiff_t* off, std::size_t node, int count, const KernelParams& p,
                          double op_uniform, double om_uniform, FlowSums& acc) {
@@ -88,7 +88,7 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
     const double uf = ux * fx + uy * fy + uz * fz;
     const double kp = 1.0 - 0.5 * op, km = 1.0 - 0.5 * om;
     // Same algebra as collide() in collision.hpp, with the directions unrolled.
-    const bool live = l < count;
+    const bool live = !kMasked || l < count;
     if (live) out[0][l] = f[0] - op * (f[0] - D3Q19::w[0] * rho * (1.0 - 1.5 * uu)) + kp * D3Q19::w[0] * (-3.0 * uf);
     auto pair = [&]<int I>(std::integer_sequence<int, I>) {
       constexpr double w = D3Q19::w[I];
@@ -136,9 +136,12 @@ FlowSums stream_collide(const Lattice& L, const double* __restrict src, double* 
     FlowSums acc;
     std::size_t node = segs[k].begin;
     int len = segs[k].length;
-    for (; len > 0; len -= kLanes, node += kLanes)
-      detail::update_block<Collision, kForceField, kTauField, kLanes>(
-          src, dst, n, off, node, len < kLanes ? len : kLanes, p, rates.plus, rates.minus, acc);
+    for (; len >= kLanes; len -= kLanes, node += kLanes)
+      detail::update_block<Collision, kForceField, kTauField, kLanes, false>(
+          src, dst, n, off, node, kLanes, p, rates.plus, rates.minus, acc);
+    if (len > 0)
+      detail::update_block<Collision, kForceField, kTauField, kLanes, true>(
+          src, dst, n, off, node, len, p, rates.plus, rates.minus, acc);
     mass += acc.mass;
     mx += acc.momentum_x;
     my += acc.momentum_y;
