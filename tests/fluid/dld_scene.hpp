@@ -8,8 +8,9 @@
 
 namespace dld::fluid::testing {
 
-/// The DLD cell of SPEC section 2 at lattice spacing dx_um and row shift d_um, Re = 0.1.
-inline Scene dld_scene(double dx_um, double d_um, const std::string& collision = "trt") {
+/// The DLD cell of SPEC section 2 at lattice spacing dx_um and row shift d_um (target Re 0.1).
+inline Scene dld_scene(double dx_um, double d_um, const std::string& collision = "trt",
+                       double reynolds = 0.1) {
   return parse_scene(fmt::format(R"(
 [scene]
 name = "test-dld"
@@ -22,13 +23,13 @@ row_shift_um = {}
 dx_um = {}
 collision = "{}"
 [drive]
-reynolds = 0.1
+reynolds = {}
 [run]
 steady_tolerance = 1e-10
 log_every = 500
 max_steps = 60000
 )",
-                                 d_um, dx_um, collision),
+                                 d_um, dx_um, collision, reynolds),
                      "test-dld.toml");
 }
 

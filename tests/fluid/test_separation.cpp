@@ -41,5 +41,18 @@ TEST(Separation, BetweenPlugAndParabolicEstimatesAndGrowingWithShift) {
   }
 }
 
+TEST(Separation, HalvingTheReynoldsNumberLeavesItUnchanged) {
+  // SPEC section 3: inertia must be negligible. Target Re 0.1 and 0.05 (reached: ~0.06, ~0.03).
+  FluidRunOptions opt;
+  opt.write_file = false;
+  opt.progress = false;
+  const FluidRunSummary a = run_fluid(testing::dld_scene(0.8, 4.4, "trt", 0.1), opt);
+  const FluidRunSummary b = run_fluid(testing::dld_scene(0.8, 4.4, "trt", 0.05), opt);
+  ASSERT_TRUE(a.steady && b.steady);
+  EXPECT_NEAR(b.reynolds / a.reynolds, 0.5, 0.01);
+  EXPECT_LT(std::abs(a.separation_um - b.separation_um), 1e-3 * a.separation_um)
+      << a.separation_um << " vs " << b.separation_um;
+}
+
 }  // namespace
 }  // namespace dld::fluid
