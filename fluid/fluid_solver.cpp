@@ -105,6 +105,24 @@ Moments FluidSolver::node_moments(int i, int j, int k) const {
   return {rho, (jx - 0.5 * fx) / rho, (jy - 0.5 * fy) / rho, (jz - 0.5 * fz) / rho};
 }
 
+std::array<const double*, 3> FluidSolver::velocity_field() {
+  const std::size_t n = lattice_.padded_size();
+  if (velocity_.empty()) velocity_.assign(3 * n, 0.0);
+  const int nx = lattice_.nx(), ny = lattice_.ny(), nz = lattice_.nz();
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        if (lattice_.solid(i, j, k)) continue;
+        const Moments m = node_moments(i, j, k);
+        const std::size_t s = lattice_.index(i, j, k);
+        velocity_[s] = m.ux;
+        velocity_[n + s] = m.uy;
+        velocity_[2 * n + s] = m.uz;
+      }
+  return {velocity_.data(), velocity_.data() + n, velocity_.data() + 2 * n};
+}
+
 void FluidSolver::fields(std::vector<double>& rho, std::vector<double>& ux, std::vector<double>& uy,
                          std::vector<double>& uz) const {
   const int nx = lattice_.nx(), ny = lattice_.ny(), nz = lattice_.nz();

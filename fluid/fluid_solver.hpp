@@ -53,6 +53,10 @@ class FluidSolver {
   void fields(std::vector<double>& rho, std::vector<double>& ux, std::vector<double>& uy,
               std::vector<double>& uz) const;
 
+  /// Velocity of every fluid node (0 on solid nodes) as three arrays of padded size, from the
+  /// current populations; recomputed on each call.
+  std::array<const double*, 3> velocity_field();
+
   /// Per-node body force field, added to the uniform force (created zeroed on first call).
   std::array<double*, 3> force_field();
   /// Per-node relaxation time (created filled with tau on first call).
@@ -66,7 +70,7 @@ class FluidSolver {
   FluidConfig config_;
   Lattice lattice_;
   std::vector<double> f_, g_;  ///< current and next populations
-  std::vector<double> force_field_, tau_field_;
+  std::vector<double> force_field_, tau_field_, velocity_;
   FlowSums sums_;
   double force_y_ = 0.0;          ///< y force for the next step
   double applied_force_y_ = 0.0;  ///< y force of the last step (to recover u)

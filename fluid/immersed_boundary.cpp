@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+#include "fluid/immersed_boundary.hpp"
+
+#include <cassert>
+#include <cmath>
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "shared/input_error.hpp"
+
+namespace dld::fluid {
+
+IbKernel ib_kernel_from_name(const std::string& name) {
+  if (name == "peskin2") return IbKernel::kPeskin2;
+  if (name == "peskin3") return IbKernel::kPeskin3;
+  if (name == "peskin4") return IbKernel::kPeskin4;
+  throw InputError("immersed-boundary kernel '" + name + "': expected peskin2, peskin3 or peskin4");
+}
+
+ImmersedBoundary::ImmersedBoundary(const Lattice& lattice, IbKernel kernel)
+    : lattice_(lattice), kernel_(kernel) {}
+
+namespace {
+int floor_div(int a, int n) { return a >= 0 ? a / n : -((-a + n - 1) / n); }
+}  // namespace
+
+bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
+  const Domain& d = lattice_.domain();
+  const int nx = d.nx, ny = d.ny, nz = d.nz;
+  const double h = half_width(kernel_);
+  // Fold x into [0, nx) (moving by a box in x moves the frame by the shift in y).
+  double X = p[0], Y = p[1], Z = p[2];
+  const double wraps = std::floor(X / nx);
+  X -= wraps * nx;
+  Y -= wraps * d.shift;
+  s.count = 0;
+  double total = 0;
+  const int i0 = static_cast<int>(std::ceil(X - 0.5 - h)), i1 = static_cast<int>(std::floor(X - 0.5 + h));
+  const int k0 = static_cast<int>(std::ceil(Z - 0.5 - h)), k1 = static_cast<int>(std::floor(Z - 0.5 + h));
+  for (int i = i0; i <= i1; ++i) {
+    const double wx = phi(kernel_, i + 0.5 - X);
+    if (wx == 0.0) continue;
+    const int box = floor_div(i, nx);     // -1, 0 or +1: which neighbouring box the column is in
+    const int iw = i - box * nx;
+    const double Yb = Y - box * d.shift;  // the marker's y in that box's frame
+    const int j0 = static_cast<int>(std::ceil(Yb - 0.5 - h)), j1 = static_cast<int>(std::floor(Yb - 0.5 + h));
+    for (int j = j0; j <= j1; ++j) {
+      const double wy = phi(kernel_, j + 0.5 - Yb);
+      if (wy == 0.0) continue;
+      const int jw = ((j % ny) + ny) % ny;
+      for (int k = k0; k <= k1; ++k) {
+        int kw = k;
+        if (d.walls_z) {
+          if (k < 0 || k >= nz) continue;
+        } else {
+          kw = ((k % nz) + nz) % nz;
+        }
+        if (lattice_.solid(iw, jw, kw)) continue;
+        const double w = wx * wy * phi(kernel_, k + 0.5 - Z);
+        if (w == 0.0) continue;
+        assert(s.count < IbStencil::kMax);
+        s.node[s.count] = lattice_.index(iw, jw, kw);
+        s.weight[s.count] = w;
+        ++s.count;
+        total += w;
+      }
+    }
+  }
+  if (total <= 0.0) return false;
+  for (int n = 0; n < s.count; ++n) s.weight[n] /= total;
+  return true;
+}
+
+namespace {
+[[noreturn]] void no_fluid_near(std::size_t marker, const double* p) {
+  throw std::runtime_error("immersed boundary: marker " + std::to_string(marker) + " at (" +
+                           std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
+                           std::to_string(p[2]) +
+                           ") has no fluid node within its kernel (inside a pillar or a wall?)");
+}
+}  // namespace
+
+void ImmersedBoundary::spread(std::span<const double> positions, std::span<const double> forces,
+                              const std::array<double*, 3>& field) const {
+  assert(positions.size() == forces.size());
+  const std::size_t n = lattice_.padded_size();
+  for (int a = 0; a < 3; ++a) std::fill(field[a], field[a] + n, 0.0);
+  const std::size_t markers = positions.size() / 3;
+  IbStencil s;
+  // Serial: markers of one cell share nodes; a parallel version needs per-thread fields.
+  for (std::size_t m = 0; m < markers; ++m) {
+    if (!stencil(&positions[3 * m], s)) no_fluid_near(m, &positions[3 * m]);
+    for (int q = 0; q < s.count; ++q)
+      for (int a = 0; a < 3; ++a) field[a][s.node[q]] += s.weight[q] * forces[3 * m + a];
+  }
+}
+
+void ImmersedBoundary::interpolate(std::span<const double> positions,
+                                   const std::array<const double*, 3>& velocity,
+                                   std::span<double> out) const {
+  assert(positions.size() == out.size());
+  const std::size_t markers = positions.size() / 3;
+  std::size_t bad = markers;  // first marker without fluid around it, if any
+#pragma omp parallel for schedule(static) reduction(min : bad)
+  for (std::size_t m = 0; m < markers; ++m) {
+    IbStencil s;
+    if (!stencil(&positions[3 * m], s)) {
+      bad = std::min(bad, m);
+      continue;
+    }
+    double u[3] = {0, 0, 0};
+    for (int q = 0; q < s.count; ++q)
+      for (int a = 0; a < 3; ++a) u[a] += s.weight[q] * velocity[a][s.node[q]];
+    for (int a = 0; a < 3; ++a) out[3 * m + a] = u[a];
+  }
+  if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
+}
+
+}  // namespace dld::fluid

@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: MIT
+// Immersed-boundary kernels, spreading and interpolation, including across the shifted x face.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "fluid/immersed_boundary.hpp"
+
+namespace dld::fluid {
+namespace {
+
+const IbKernel kKernels[] = {IbKernel::kPeskin2, IbKernel::kPeskin3, IbKernel::kPeskin4};
+
+TEST(IbKernel, PartitionOfUnityAndZeroFirstMoment) {
+  for (IbKernel k : kKernels)
+    for (double x = 0.0; x < 1.0; x += 0.0625) {
+      double sum = 0, first = 0;
+      for (int j = -4; j <= 4; ++j) {
+        sum += phi(k, j - x);
+        first += (j - x) * phi(k, j - x);
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-14) << static_cast<int>(k) << "-point at " << x;
+      EXPECT_NEAR(first, 0.0, 1e-14) << static_cast<int>(k) << "-point at " << x;
+    }
+}
+
+TEST(IbKernel, ZeroOutsideSupport) {
+  for (IbKernel k : kKernels) {
+    EXPECT_EQ(phi(k, half_width(k)), 0.0);
+    EXPECT_EQ(phi(k, -half_width(k) - 0.3), 0.0);
+    EXPECT_GT(phi(k, half_width(k) - 0.05), 0.0);
+  }
+}
+
+Domain test_domain(double shift) {
+  Domain d;
+  d.nx = 24;
+  d.ny = 20;
+  d.nz = 10;
+  d.shift = shift;
+  d.walls_z = true;
+  d.pillars.push_back({12.0, 10.0, 4.0});
+  return d;
+}
+
+TEST(ImmersedBoundary, SpreadingConservesTotalForceEverywhere) {
+  // Markers anywhere: across the shifted x face (fractional shift), the y face, next to the
+  // walls and the pillar; the solid nodes dropped from a stencil must not lose force.
+  const Lattice L(test_domain(3.4));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> ux(-30.0, 50.0), uy(-25.0, 45.0), uz(0.3, 9.7), uf(-1.0, 1.0);
+  std::vector<double> pos, frc;
+  while (pos.size() < 3 * 400) {
+    const double p[3] = {ux(rng), uy(rng), uz(rng)};
+    // Keep markers out of the pillar itself (there the fluid has no node to receive force).
+    double x = std::fmod(std::fmod(p[0], 24.0) + 24.0, 24.0);
+    double y = p[1] - std::floor(p[0] / 24.0) * 3.4;
+    if (L.domain().in_pillar(x, y)) continue;
+    pos.insert(pos.end(), p, p + 3);
+    frc.insert(frc.end(), {uf(rng), uf(rng), uf(rng)});
+  }
+  for (IbKernel k : kKernels) {
+    const ImmersedBoundary ib(L, k);
+    std::vector<double> field(3 * L.padded_size());
+    const std::size_t n = L.padded_size();
+    ib.spread(pos, frc, {field.data(), field.data() + n, field.data() + 2 * n});
+    double want[3] = {0, 0, 0}, got[3] = {0, 0, 0};
+    for (std::size_t m = 0; m < frc.size(); ++m) want[m % 3] += frc[m];
+    for (int a = 0; a < 3; ++a)
+      for (std::size_t s = 0; s < n; ++s) {
+        if (L.solid_mask()[s]) EXPECT_EQ(field[a * n + s], 0.0);
+        got[a] += field[a * n + s];
+      }
+    for (int a = 0; a < 3; ++a) EXPECT_NEAR(got[a], want[a], 1e-12) << static_cast<int>(k);
+  }
+}
+
+// A velocity field on all nodes: u = (a + b z, c y, e z) with y the box coordinate.
+std::vector<double> linear_field(const Lattice& L, double a, double b, double c, double e) {
+  const std::size_t n = L.padded_size();
+  std::vector<double> u(3 * n, 0.0);
+  for (int k = 0; k < L.nz(); ++k)
+    for (int j = 0; j < L.ny(); ++j)
+      for (int i = 0; i < L.nx(); ++i) {
+        const std::size_t s = L.index(i, j, k);
+        u[s] = a + b * (k + 0.5);
+        u[n + s] = c * (j + 0.5);
+        u[2 * n + s] = e * (k + 0.5);
+      }
+  return u;
+}
+
+TEST(ImmersedBoundary, InterpolatesLinearFieldsExactlyInTheBulk) {
+  Domain d = test_domain(3.4);
+  d.pillars.clear();
+  const Lattice L(d);
+  const auto u = linear_field(L, 0.3, 0.02, 0.01, -0.005);
+  const std::size_t n = L.padded_size();
+  for (IbKernel k : kKernels) {
+    const ImmersedBoundary ib(L, k);
+    // Away from the walls (z) and from the periodic faces (x, y) by more than the kernel reach.
+    const std::vector<double> pos{8.3, 7.7, 4.1, 12.0, 12.5, 5.0, 15.61, 9.02, 3.37};
+    std::vector<double> out(pos.size());
+    ib.interpolate(pos, {u.data(), u.data() + n, u.data() + 2 * n}, out);
+    for (std::size_t m = 0; m < 3; ++m) {
+      EXPECT_NEAR(out[3 * m], 0.3 + 0.02 * pos[3 * m + 2], 1e-14);
+      EXPECT_NEAR(out[3 * m + 1], 0.01 * pos[3 * m + 1], 1e-14);
+      EXPECT_NEAR(out[3 * m + 2], -0.005 * pos[3 * m + 2], 1e-14);
+    }
+  }
+}
+
+TEST(ImmersedBoundary, ShiftedFaceMovesTheWrappedColumnsByTheShift) {
+  // A marker at the left face: columns beyond x = 0 are the right end of the box seen from the
+  // previous box, whose y coordinate is higher by d. With u_y = c y_box, the exact interpolant is
+  // c (Y + d W_left), W_left the x weight of the wrapped columns. Fractional d checks the
+  // sub-node shift; u_x and u_z, linear in z only, must stay exact across the face.
+  Domain d = test_domain(3.4);
+  d.pillars.clear();
+  const Lattice L(d);
+  const double c = 0.01;
+  const auto u = linear_field(L, 0.3, 0.02, c, -0.005);
+  const std::size_t n = L.padded_size();
+  for (IbKernel k : kKernels) {
+    const ImmersedBoundary ib(L, k);
+    for (double X : {0.2, 0.9, 23.4, 23.7}) {
+      const double Y = 9.3, Z = 4.6;
+      double w_other = 0;  // x weight of columns in the neighbouring box
+      for (int i = -3; i <= 26; ++i)
+        if (i < 0 || i >= 24) w_other += phi(k, i + 0.5 - X);
+      const double sign = X < 12 ? +1.0 : -1.0;  // left face: frame higher by d; right: lower
+      const std::vector<double> pos{X, Y, Z};
+      std::vector<double> out(3);
+      ib.interpolate(pos, {u.data(), u.data() + n, u.data() + 2 * n}, out);
+      if (X == 0.2 || X == 23.7) EXPECT_GT(w_other, 0.0);  // every kernel reaches across
+      EXPECT_NEAR(out[1], c * (Y + sign * 3.4 * w_other), 1e-14) << "X " << X;
+      EXPECT_NEAR(out[0], 0.3 + 0.02 * Z, 1e-14);
+      EXPECT_NEAR(out[2], -0.005 * Z, 1e-14);
+    }
+  }
+}
+
+TEST(ImmersedBoundary, MarkerFoldedFromAnotherBoxSeesTheSameNodes) {
+  // The same material point given in the next box's coordinates (x + nx, y + d).
+  const Lattice L(test_domain(3.4));
+  const ImmersedBoundary ib(L, IbKernel::kPeskin4);
+  IbStencil a, b;
+  const double p[3] = {5.3, 3.1, 2.2}, q[3] = {5.3 + 24.0, 3.1 + 3.4, 2.2};
+  ASSERT_TRUE(ib.stencil(p, a));
+  ASSERT_TRUE(ib.stencil(q, b));
+  ASSERT_EQ(a.count, b.count);
+  for (int i = 0; i < a.count; ++i) {
+    EXPECT_EQ(a.node[i], b.node[i]);
+    EXPECT_NEAR(a.weight[i], b.weight[i], 1e-14);
+  }
+}
+
+TEST(ImmersedBoundary, SpreadAndInterpolateAreAdjoint) {
+  // sum_m U_m . F_m = sum_nodes u . f: the power the markers put in is the power the fluid gets.
+  const Lattice L(test_domain(2.0));
+  const ImmersedBoundary ib(L, IbKernel::kPeskin4);
+  const std::size_t n = L.padded_size();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> r(-1, 1);
+  std::vector<double> u(3 * n);
+  for (auto& v : u) v = r(rng);
+  const std::vector<double> pos{1.0, 2.0, 1.2, 23.5, 19.6, 8.8, 4.0, 15.0, 5.0};
+  const std::vector<double> frc{0.3, -0.2, 0.1, 1.0, 0.5, -0.7, -0.4, 0.2, 0.9};
+  std::vector<double> field(3 * n), um(9);
+  ib.spread(pos, frc, {field.data(), field.data() + n, field.data() + 2 * n});
+  ib.interpolate(pos, {u.data(), u.data() + n, u.data() + 2 * n}, um);
+  double pm = 0, pf = 0;
+  for (int i = 0; i < 9; ++i) pm += um[i] * frc[i];
+  for (std::size_t s = 0; s < 3 * n; ++s) pf += u[s] * field[s];
+  EXPECT_NEAR(pm, pf, 1e-13);
+}
+
+TEST(ImmersedBoundary, MarkerInsideThePillarIsReported) {
+  const Lattice L(test_domain(0.0));
+  const ImmersedBoundary ib(L, IbKernel::kPeskin2);
+  const std::vector<double> pos{12.0, 10.0, 5.0}, frc{1, 0, 0};
+  std::vector<double> field(3 * L.padded_size());
+  const std::size_t n = L.padded_size();
+  EXPECT_THROW(ib.spread(pos, frc, {field.data(), field.data() + n, field.data() + 2 * n}),
+               std::runtime_error);
+}
+
+}  // namespace
+}  // namespace dld::fluid
