@@ -11,7 +11,9 @@ namespace {
 // ghost plane receive (opp q, f) for every node f of the adjacent plane: one contiguous copy.
 // Rows are copied together with the ghost columns between them; those extra slots are pulled,
 // in the linear index, only by ghost nodes, which are never updated.
-void wall_plane(const Lattice& L, double* f, int k, int sign) {
+// A moving wall adds 6 w_q rho0 (c_q . u_wall) to the reflected population (Ladd, J. Fluid Mech.
+// 271 (1994) 285, eq. 5.2, with rho0 = 1): no mass is added for tangential wall motion.
+void wall_plane(const Lattice& L, double* f, int k, int sign, const std::array<double, 3>& uw) {
   const std::size_t n = L.padded_size();
   const std::size_t first = L.index(0, 0, k);
   const std::size_t count = L.index(L.nx() - 1, L.ny() - 1, k) - first + 1;
@@ -19,7 +21,13 @@ void wall_plane(const Lattice& L, double* f, int k, int sign) {
     if (D3Q19::c[q][2] != sign) continue;
     const double* src = f + D3Q19::opp[q] * n + first;
     double* dst = f + q * n + first - L.offset(q);
-    std::copy(src, src + count, dst);
+    const double du = 6.0 * D3Q19::w[q] *
+                      (D3Q19::c[q][0] * uw[0] + D3Q19::c[q][1] * uw[1] + D3Q19::c[q][2] * uw[2]);
+    if (du == 0.0) {
+      std::copy(src, src + count, dst);
+    } else {
+      for (std::size_t m = 0; m < count; ++m) dst[m] = src[m] + du;
+    }
   }
 }
 
@@ -31,8 +39,8 @@ void apply_bounce_back(const Lattice& lattice, double* f) {
 #pragma omp parallel for schedule(static)
   for (std::size_t l = 0; l < count; ++l) f[links[l].target] = f[links[l].source];
   if (lattice.domain().walls_z) {
-    wall_plane(lattice, f, 0, +1);
-    wall_plane(lattice, f, lattice.nz() - 1, -1);
+    wall_plane(lattice, f, 0, +1, lattice.domain().wall_velocity_low);
+    wall_plane(lattice, f, lattice.nz() - 1, -1, lattice.domain().wall_velocity_high);
   }
 }
 

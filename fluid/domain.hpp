@@ -4,6 +4,7 @@
 // through x = nx at height y re-enters at x = 0 at height y - shift). Node (i, j, k) sits at
 // (i + 1/2, j + 1/2, k + 1/2), so half-way bounce-back puts walls on whole coordinates.
 #pragma once
+#include <array>
 #include <vector>
 
 #include "shared/dld_geometry.hpp"
@@ -18,6 +19,10 @@ struct Domain {
   int nx = 0, ny = 0, nz = 0;
   double shift = 0.0;       ///< lattice units, any real value in [0, ny)
   bool walls_z = true;      ///< no-slip walls at z = 0 and z = nz; false: periodic z
+  /// Tangential velocities of the walls at z = 0 and z = nz (lattice units): moving-wall
+  /// bounce-back, e.g. for simple shear. Zero for the DLD device.
+  std::array<double, 3> wall_velocity_low{0, 0, 0};
+  std::array<double, 3> wall_velocity_high{0, 0, 0};
   std::vector<Pillar> pillars;
 
   /// True if the point (x, y) lies in a pillar or one of its periodic (shifted) images.
