@@ -9,6 +9,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
 #include "coupler/frame.hpp"
 #include "shared/input_error.hpp"
@@ -100,11 +101,13 @@ void FluidSide::initialize() {
   guarded([&] {
     receive_hellos();
     check_hellos();
+    map_segments();
     for (std::size_t k = 0; k < peers_.size(); ++k) {
       Peer& peer = peers_[k];
       Handshake welcome = peer.hello;
       welcome.scene = config_.scene;
       welcome.side_name = kSelf;
+      welcome.shared_memory = peer.segment.mapped() ? peer.segment.name() : "";
       zmq::message_t frame = encode_handshake(FrameType::welcome, welcome);
       if (!peer.channel->send(frame)) {
         throw CouplerError(fmt::format("{}: {} did not take the welcome within {} s", kSelf,
@@ -212,6 +215,24 @@ void FluidSide::check_hellos() {
   forces_.assign(3 * next_node, 0.0);
 }
 
+// A peer's offer of a shared segment is taken on ipc if this side allows it; a segment that cannot
+// be mapped is declined (the frames then carry the data), not an error.
+void FluidSide::map_segments() {
+  for (std::size_t k = 0; k < peers_.size(); ++k) {
+    Peer& peer = peers_[k];
+    if (peer.hello.shared_memory.empty() || !config_.options.shared_memory ||
+        parse_endpoint(config_.endpoints[k]) != Transport::ipc) {
+      continue;
+    }
+    try {
+      peer.segment =
+          SharedSegment::open(peer.hello.shared_memory, 3 * 3 * sizeof(double) * peer.nodes, kSelf);
+    } catch (const CouplerError& e) {
+      spdlog::debug("coupler: {} (frames will carry the data)", e.what());
+    }
+  }
+}
+
 bool FluidSide::receive() {
   check_call(kSelf, "receive()", state_, {State::running});
   return guarded([&] { return receive_steps(); });
@@ -273,17 +294,21 @@ void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
     case FrameType::shutdown:
       peer.shut_down = true;
       return;
-    case FrameType::step:
-      break;
     default:
-      throw_malformed(
-          link, step_, "type",
-          fmt::format("expected step, shutdown or error, got {}", to_string(header.type)));
+      break;
+  }
+  const bool shared = peer.segment.mapped();
+  const FrameType expected = shared ? FrameType::step_shared : FrameType::step;
+  if (header.type != expected) {
+    throw_malformed(link, step_, "type",
+                    fmt::format("expected {}, shutdown or error, got {}", to_string(expected),
+                                to_string(header.type)));
   }
   if (header.step != step_) {
     throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
   }
-  const std::byte* data = read_nodes(frame, header, peer.nodes, 2, link);
+  const std::byte* data = read_nodes(frame, header, peer.nodes, shared ? 0 : 2, link);
+  if (shared) data = peer.segment.data();
   const std::size_t values = 3 * peer.nodes;
   if (peers_.size() == 1 && reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
     // The frame's bytes are the doubles the membrane sent (same layout, little-endian host).
@@ -317,8 +342,14 @@ void FluidSide::send_velocities(std::span<const double> velocities) {
   }
   guarded([&] {
     for (Peer& peer : peers_) {
-      zmq::message_t frame =
-          encode_velocities(step_, velocities.subspan(3 * peer.first_node, 3 * peer.nodes), &pool_);
+      const auto mine = velocities.subspan(3 * peer.first_node, 3 * peer.nodes);
+      zmq::message_t frame;
+      if (peer.segment.mapped()) {
+        std::memcpy(peer.segment.data() + 2 * mine.size_bytes(), mine.data(), mine.size_bytes());
+        frame = encode_count(FrameType::velocities_shared, step_, peer.nodes);
+      } else {
+        frame = encode_velocities(step_, mine, &pool_);
+      }
       if (!peer.channel->send(frame)) {
         throw CouplerError(fmt::format("{}: {} did not take the velocities of step {} within {} s",
                                        kSelf, peer.label, step_, seconds(config_.options.timeout)));

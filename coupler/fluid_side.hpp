@@ -24,6 +24,7 @@
 #include "coupler/frame_pool.hpp"
 #include "coupler/handshake.hpp"
 #include "coupler/options.hpp"
+#include "coupler/shared_segment.hpp"
 #include "coupler/state.hpp"
 
 namespace dld::coupler {
@@ -72,6 +73,8 @@ class FluidSide {
   std::size_t peer_count() const { return peers_.size(); }
   std::size_t node_count() const { return positions_.size() / 3; }
   std::size_t node_offset(std::size_t peer) const { return peers_[peer].first_node; }
+  /// True once initialized if this peer's node arrays go through shared memory.
+  bool shared_memory(std::size_t peer) const { return peers_[peer].segment.mapped(); }
   /// Node count of every cell over all peers, in global cell order (after initialize()).
   std::span<const std::uint32_t> cell_nodes() const { return cell_nodes_; }
   /// "membrane 'membrane-1'" once its hello arrived, else "membrane peer 1".
@@ -86,11 +89,13 @@ class FluidSide {
     std::size_t nodes = 0;
     bool shut_down = false;
     zmq::message_t last_frame;  // kept so that positions()/forces() may point into it
+    SharedSegment segment;      // ipc data path offered by the peer and accepted
   };
 
   void open(zmq::context_t& context);
   void receive_hellos();
   void check_hellos();
+  void map_segments();
   bool receive_steps();
   void accept_frame(std::size_t k, zmq::message_t frame);
   /// Indices of peers for which a frame is waiting, within the deadline; empty on timeout.

@@ -44,6 +44,10 @@ std::string_view to_string(FrameType type) {
       return "shutdown";
     case FrameType::error:
       return "error";
+    case FrameType::step_shared:
+      return "step_shared";
+    case FrameType::velocities_shared:
+      return "velocities_shared";
   }
   return "unknown";
 }
@@ -95,6 +99,12 @@ zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> vel
   return frame;
 }
 
+zmq::message_t encode_count(FrameType type, std::uint64_t step, std::size_t nodes) {
+  zmq::message_t frame = make_frame(type, step, 8);
+  put(payload(frame), static_cast<std::uint64_t>(nodes));
+  return frame;
+}
+
 zmq::message_t encode_shutdown(std::uint64_t step) {
   return make_frame(FrameType::shutdown, step, 0);
 }
@@ -131,8 +141,7 @@ FrameHeader read_header(const zmq::message_t& frame, const Link& link, std::uint
                     fmt::format("expected {}, got {}", kProtocolVersion, header.version));
   }
   const auto type = get<std::uint16_t>(at + 6);
-  if (type < static_cast<std::uint16_t>(FrameType::hello) ||
-      type > static_cast<std::uint16_t>(FrameType::error)) {
+  if (type < static_cast<std::uint16_t>(FrameType::hello) || type > kLastFrameType) {
     throw_malformed(link, at_step, "type", fmt::format("unknown frame type {}", type));
   }
   header.type = static_cast<FrameType>(type);

@@ -22,13 +22,16 @@ inline constexpr std::uint16_t kProtocolVersion = 1;
 inline constexpr std::size_t kHeaderBytes = 24;
 
 enum class FrameType : std::uint16_t {
-  hello = 1,       ///< membrane -> fluid: handshake record
-  welcome = 2,     ///< fluid -> membrane: handshake record of the fluid for this peer
-  step = 3,        ///< membrane -> fluid: node count, positions (N x 3), forces (N x 3)
-  velocities = 4,  ///< fluid -> membrane: node count, velocities (N x 3)
-  shutdown = 5,    ///< either way: the sender ends the run cleanly; empty payload
-  error = 6,       ///< either way: the sender failed; payload = its one-line message (UTF-8)
+  hello = 1,              ///< membrane -> fluid: handshake record
+  welcome = 2,            ///< fluid -> membrane: handshake record of the fluid for this peer
+  step = 3,               ///< membrane -> fluid: node count, positions (N x 3), forces (N x 3)
+  velocities = 4,         ///< fluid -> membrane: node count, velocities (N x 3)
+  shutdown = 5,           ///< either way: the sender ends the run cleanly; empty payload
+  error = 6,              ///< either way: the sender failed; payload = its one-line message (UTF-8)
+  step_shared = 7,        ///< as step, the arrays in the shared segment; payload = node count
+  velocities_shared = 8,  ///< as velocities, the array in the shared segment; payload = count
 };
+inline constexpr std::uint16_t kLastFrameType = 8;
 std::string_view to_string(FrameType type);
 
 struct FrameHeader {
@@ -65,6 +68,8 @@ zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions
                            std::span<const double> forces, FramePool* pool = nullptr);
 zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
                                  FramePool* pool = nullptr);
+/// Step and velocities frames of the shared-memory data path: the header and the node count only.
+zmq::message_t encode_count(FrameType type, std::uint64_t step, std::size_t nodes);
 zmq::message_t encode_shutdown(std::uint64_t step);
 zmq::message_t encode_error(std::uint64_t step, std::string_view message);
 
@@ -74,7 +79,8 @@ zmq::message_t encode_error(std::uint64_t step, std::string_view message);
 FrameHeader read_header(const zmq::message_t& frame, const Link& link, std::uint64_t at_step);
 
 /// Checks a node payload (step or velocities): its node count equals `nodes` and its length
-/// matches; returns the bytes of the `arrays` arrays of 3 N doubles that follow the count.
+/// matches; returns the bytes of the `arrays` arrays of 3 N doubles that follow the count
+/// (`arrays` = 0 for the shared-memory frames, which carry the count only).
 const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& header,
                             std::size_t nodes, int arrays, const Link& link);
 

@@ -29,7 +29,7 @@ bool same(double a, double b) {
 
 zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
   const std::size_t bytes = kHandshakeFixedBytes + r.scene.scene_hash.size() + r.side_name.size() +
-                            4 * r.cell_nodes.size();
+                            4 * r.cell_nodes.size() + r.shared_memory.size();
   zmq::message_t frame = make_frame(type, r.scene.start_step, bytes);
   std::byte* at = payload(frame);
   for (double v : {r.scene.dx_m, r.scene.dt_s, r.scene.density_kg_m3, r.scene.lambda_m,
@@ -40,7 +40,8 @@ zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
   for (std::uint32_t v : {r.scene.total_cells, r.peer_index, r.peer_count, r.first_cell,
                           static_cast<std::uint32_t>(r.cell_nodes.size()),
                           static_cast<std::uint32_t>(r.scene.scene_hash.size()),
-                          static_cast<std::uint32_t>(r.side_name.size()), std::uint32_t{0}}) {
+                          static_cast<std::uint32_t>(r.side_name.size()),
+                          static_cast<std::uint32_t>(r.shared_memory.size())}) {
     put(at, v);
   }
   std::memcpy(at, r.scene.scene_hash.data(), r.scene.scene_hash.size());
@@ -48,6 +49,8 @@ zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
   std::memcpy(at, r.side_name.data(), r.side_name.size());
   at += r.side_name.size();
   std::memcpy(at, r.cell_nodes.data(), 4 * r.cell_nodes.size());
+  at += 4 * r.cell_nodes.size();
+  std::memcpy(at, r.shared_memory.data(), r.shared_memory.size());
   return frame;
 }
 
@@ -75,12 +78,16 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   const auto cells = get<std::uint32_t>(at);
   const auto hash_bytes = get<std::uint32_t>(at);
   const auto name_bytes = get<std::uint32_t>(at);
-  at += 4;  // reserved
-  if (hash_bytes > kMaxNameBytes || name_bytes > kMaxNameBytes) {
-    throw_malformed(link, header.step, hash_bytes > kMaxNameBytes ? "scene_hash" : "side_name",
-                    fmt::format("longer than {} bytes", kMaxNameBytes));
+  const auto shm_bytes = get<std::uint32_t>(at);
+  for (const auto& [field, bytes] :
+       {std::pair{"scene_hash", hash_bytes}, std::pair{"side_name", name_bytes},
+        std::pair{"shared_memory", shm_bytes}}) {
+    if (bytes > kMaxNameBytes) {
+      throw_malformed(link, header.step, field, fmt::format("longer than {} bytes", kMaxNameBytes));
+    }
   }
-  const std::size_t expected = kHandshakeFixedBytes + hash_bytes + name_bytes + 4ull * cells;
+  const std::size_t expected =
+      kHandshakeFixedBytes + hash_bytes + name_bytes + 4ull * cells + shm_bytes;
   if (header.payload_bytes != expected) {
     throw_malformed(link, header.step, "payload_bytes",
                     fmt::format("{} record with {} cells needs {} bytes, got {}",
@@ -92,6 +99,8 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   at += name_bytes;
   r.cell_nodes.resize(cells);
   std::memcpy(r.cell_nodes.data(), at, 4ull * cells);
+  at += 4ull * cells;
+  r.shared_memory.assign(reinterpret_cast<const char*>(at), shm_bytes);
   return r;
 }
 

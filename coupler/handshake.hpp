@@ -39,6 +39,9 @@ struct Handshake {
   std::uint32_t peer_count = 1;           ///< membrane processes in the run
   std::uint32_t first_cell = 0;           ///< global index of this peer's first cell
   std::vector<std::uint32_t> cell_nodes;  ///< node count of every cell the peer owns, in order
+  /// Shared-memory data path (ipc): in a hello, the segment the membrane offers; in a welcome,
+  /// the same name if the fluid mapped it, empty if it declines. Empty: frames carry the data.
+  std::string shared_memory;
 };
 
 inline constexpr std::size_t kHandshakeFixedBytes = 96;

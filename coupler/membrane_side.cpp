@@ -9,6 +9,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
 #include "coupler/frame.hpp"
 #include "shared/input_error.hpp"
@@ -70,8 +71,22 @@ auto MembraneSide::guarded(Body&& body) {
 void MembraneSide::initialize() {
   check_call(self_, "initialize()", state_, {State::created});
   guarded([&] {
-    const Handshake hello{config_.scene,      config_.name,       config_.peer_index,
-                          config_.peer_count, config_.first_cell, config_.cell_nodes};
+    Handshake hello{config_.scene,
+                    config_.name,
+                    config_.peer_index,
+                    config_.peer_count,
+                    config_.first_cell,
+                    config_.cell_nodes,
+                    ""};
+    if (config_.options.shared_memory && nodes_ > 0 &&
+        parse_endpoint(config_.endpoint) == Transport::ipc) {
+      try {
+        segment_ = SharedSegment::create(3 * 3 * sizeof(double) * nodes_, self_);
+        hello.shared_memory = segment_.name();
+      } catch (const CouplerError& e) {
+        spdlog::debug("coupler: {} (frames will carry the data)", e.what());
+      }
+    }
     zmq::message_t frame = encode_handshake(FrameType::hello, hello);
     if (!channel_->send(frame)) {
       throw CouplerError(fmt::format("{}: the fluid did not take the hello on '{}' within {} s",
@@ -93,7 +108,11 @@ void MembraneSide::initialize() {
       throw_malformed(link, step_, "type",
                       fmt::format("expected welcome, got {}", to_string(header.type)));
     }
-    check_welcome(decode_handshake(*reply, header, link));
+    const Handshake welcome = decode_handshake(*reply, header, link);
+    check_welcome(welcome);
+    shared_ = !welcome.shared_memory.empty();
+    segment_.unlink();  // the fluid has mapped it (or declined): the name is no longer needed
+    if (!shared_) segment_ = SharedSegment();
     state_ = State::running;
     spdlog::debug("coupler: {} joined the fluid with {} cells, {} nodes", self_,
                   config_.cell_nodes.size(), nodes_);
@@ -118,6 +137,10 @@ void MembraneSide::check_welcome(const Handshake& welcome) {
   if (welcome.cell_nodes != config_.cell_nodes) {
     fail(mismatch("cell_nodes", fmt::format("{} cells", welcome.cell_nodes.size()), self_,
                   fmt::format("{} cells", config_.cell_nodes.size())));
+  }
+  if (!welcome.shared_memory.empty() && welcome.shared_memory != segment_.name()) {
+    fail(mismatch("shared_memory", fmt::format("'{}'", welcome.shared_memory), self_,
+                  fmt::format("'{}'", segment_.name())));
   }
 }
 
@@ -144,7 +167,15 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
                     self_, positions.size(), forces.size(), nodes_));
   }
   return guarded([&]() -> std::optional<std::span<const double>> {
-    zmq::message_t frame = encode_step(step_, positions, forces, &pool_);
+    const std::size_t bytes = 3 * sizeof(double) * nodes_;
+    zmq::message_t frame;
+    if (shared_) {
+      std::memcpy(segment_.data(), positions.data(), bytes);
+      std::memcpy(segment_.data() + bytes, forces.data(), bytes);
+      frame = encode_count(FrameType::step_shared, step_, nodes_);
+    } else {
+      frame = encode_step(step_, positions, forces, &pool_);
+    }
     if (!channel_->send(frame)) {
       throw CouplerError(fmt::format("{}: the fluid did not take step {} within {} s", self_, step_,
                                      seconds(config_.options.timeout)));
@@ -167,17 +198,20 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
         state_ = State::ended;
         spdlog::debug("coupler: fluid ended the run at step {}", step_);
         return std::nullopt;
-      case FrameType::velocities:
-        break;
       default:
-        throw_malformed(
-            link, step_, "type",
-            fmt::format("expected velocities, shutdown or error, got {}", to_string(header.type)));
+        break;
+    }
+    const FrameType expected = shared_ ? FrameType::velocities_shared : FrameType::velocities;
+    if (header.type != expected) {
+      throw_malformed(link, step_, "type",
+                      fmt::format("expected {}, shutdown or error, got {}", to_string(expected),
+                                  to_string(header.type)));
     }
     if (header.step != step_) {
       throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
     }
-    const std::byte* data = read_nodes(reply_, header, nodes_, 1, link);
+    const std::byte* data = read_nodes(reply_, header, nodes_, shared_ ? 0 : 1, link);
+    if (shared_) data = segment_.data() + 2 * bytes;
     ++step_;
     if (reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
       return std::span<const double>(reinterpret_cast<const double*>(data), 3 * nodes_);

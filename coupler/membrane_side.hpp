@@ -25,6 +25,7 @@
 #include "coupler/frame_pool.hpp"
 #include "coupler/handshake.hpp"
 #include "coupler/options.hpp"
+#include "coupler/shared_segment.hpp"
 #include "coupler/state.hpp"
 
 namespace dld::coupler {
@@ -68,6 +69,8 @@ class MembraneSide {
   State state() const { return state_; }
   std::uint64_t step() const { return step_; }
   std::size_t node_count() const { return nodes_; }
+  /// True once initialized if node arrays go through shared memory (ipc, both sides allow it).
+  bool shared_memory() const { return shared_; }
   /// "membrane 'membrane-0'".
   const std::string& label() const { return self_; }
 
@@ -86,6 +89,8 @@ class MembraneSide {
   FramePool pool_;                 // step frames
   zmq::message_t reply_;           // the last velocities frame, viewed by exchange()
   std::vector<double> unaligned_;  // copy target if a frame's doubles are not aligned
+  SharedSegment segment_;  // ipc data path: positions | forces | velocities, 24 N bytes each
+  bool shared_ = false;    // the fluid accepted the segment
 };
 
 }  // namespace dld::coupler

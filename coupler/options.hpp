@@ -25,6 +25,9 @@ struct Options {
   std::chrono::milliseconds handshake_timeout{60'000};
   /// How long closing may wait to deliver a last frame (shutdown, error): close never hangs longer.
   std::chrono::milliseconds linger{2'000};
+  /// On ipc, move node arrays through a shared-memory segment and only small frames through the
+  /// socket. Used when both sides allow it; either side may refuse (then frames carry the data).
+  bool shared_memory = true;
   /// Authenticate and encrypt with CURVE (tcp across machines). Both sides must agree.
   std::optional<CurveKeys> curve;
 };

@@ -31,16 +31,24 @@ SceneIdentity scene(std::uint32_t cells) {
   return s;
 }
 
+// Transports: 0 inproc, 1 ipc with the data in the frames, 2 ipc with the data in shared
+// memory, 3 tcp on loopback.
 std::string endpoint(int transport, const std::filesystem::path& dir) {
   static std::atomic<int> counter{0};
   switch (transport) {
     case 0:
       return "inproc://bench-" + std::to_string(counter++);
     case 1:
+    case 2:
       return "ipc://" + (dir / "coupler").string();
     default:
       return "tcp://127.0.0.1:*";
   }
+}
+
+const char* transport_name(int transport) {
+  static const char* names[] = {"inproc", "ipc", "ipc+shm", "tcp"};
+  return names[transport];
 }
 
 void BM_Exchange(benchmark::State& state) {
@@ -54,6 +62,7 @@ void BM_Exchange(benchmark::State& state) {
   zmq::context_t context;
   Options options;
   options.timeout = std::chrono::seconds(10);
+  options.shared_memory = transport == 2;
   FluidSide fluid({scene(cells), {endpoint(transport, tmp)}, {}, options}, context);
   std::thread fluid_thread([&] {
     fluid.initialize();
@@ -68,6 +77,7 @@ void BM_Exchange(benchmark::State& state) {
                          std::vector<std::uint32_t>(cells, kNodesPerCell), options},
                         context);
   membrane.initialize();
+  const bool membrane_shared = membrane.shared_memory();
   const std::size_t n = 3 * membrane.node_count();
   std::vector<double> x(n, 1.0), f(n, 0.5), u(n);
   for (auto _ : state) {
@@ -82,11 +92,12 @@ void BM_Exchange(benchmark::State& state) {
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes));
   state.counters["nodes"] = static_cast<double>(n / 3);
   state.counters["KB_per_step"] = bytes / 1024.0;
-  state.SetLabel(transport == 0 ? "inproc" : transport == 1 ? "ipc" : "tcp");
+  state.SetLabel(transport_name(transport));
+  if (transport == 2 && !membrane_shared) state.SkipWithError("shared memory was not used");
 }
 BENCHMARK(BM_Exchange)
     ->ArgNames({"transport", "cells"})
-    ->ArgsProduct({{0, 1, 2}, {1, 3, 17}})
+    ->ArgsProduct({{0, 1, 2, 3}, {1, 3, 17}})
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 
@@ -135,12 +146,14 @@ void BM_BarePair(benchmark::State& state) {
       zmq::message_t in;
       (void)fluid.recv(in);
       if (in.size() == 0) return;
-      zmq::message_t out(reply.data(), reply.size(), [](void*, void*) {}, nullptr);
+      zmq::message_t out(
+          reply.data(), reply.size(), [](void*, void*) {}, nullptr);
       (void)fluid.send(out, zmq::send_flags::none);
     }
   });
   for (auto _ : state) {
-    zmq::message_t out(request.data(), request.size(), [](void*, void*) {}, nullptr);
+    zmq::message_t out(
+        request.data(), request.size(), [](void*, void*) {}, nullptr);
     (void)membrane.send(out, zmq::send_flags::none);
     zmq::message_t in;
     (void)membrane.recv(in);
@@ -149,11 +162,11 @@ void BM_BarePair(benchmark::State& state) {
   (void)membrane.send(zmq::message_t(), zmq::send_flags::none);
   fluid_thread.join();
   std::filesystem::remove_all(tmp);
-  state.SetLabel(transport == 0 ? "inproc" : transport == 1 ? "ipc" : "tcp");
+  state.SetLabel(transport_name(transport));
 }
 BENCHMARK(BM_BarePair)
     ->ArgNames({"transport", "cells"})
-    ->ArgsProduct({{0, 1, 2}, {1, 3, 17}})
+    ->ArgsProduct({{0, 1, 3}, {1, 3, 17}})
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 

@@ -2,8 +2,10 @@
 // Coupled runs with both sides as threads: data arrives bit-exact over every transport, the
 // three transports give identical runs, and K membrane peers are concatenated in peer order.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstring>
+#include <filesystem>
 
 #include "coupler_test_util.hpp"
 
@@ -55,6 +57,12 @@ TEST_P(CoupledRun, TwoMembranePeersAreConcatenatedInPeerOrder) {
   expect_exact(rec, split, 4);
 }
 
+TEST_P(CoupledRun, SharedMemoryOnlyOnIpc) {
+  const RunRecord rec = run_coupled(GetParam(), {{10}, {20}}, 2);
+  expect_exact(rec, {{10}, {20}}, 2);
+  for (int shared : rec.shared_memory) EXPECT_EQ(shared != 0, GetParam() == Kind::ipc);
+}
+
 INSTANTIATE_TEST_SUITE_P(Transports, CoupledRun,
                          ::testing::Values(Kind::inproc, Kind::ipc, Kind::tcp),
                          [](const auto& p) { return name(p.param); });
@@ -76,6 +84,23 @@ TEST(CoupledRun, TransportsGiveIdenticalRuns) {
             << name(kind);
       }
     }
+  }
+}
+
+TEST(CoupledRun, IpcFramesWhenEitherSideRefusesSharedMemory) {
+  const std::vector<std::vector<std::uint32_t>> split{{1002}, {642, 12}};
+  for (const auto& [fluid_shm, membrane_shm] : {std::pair{false, true}, std::pair{true, false}}) {
+    const RunRecord rec = run_coupled(Kind::ipc, split, 3, fluid_shm, membrane_shm);
+    expect_exact(rec, split, 3);
+    for (int shared : rec.shared_memory) EXPECT_EQ(shared, 0);
+  }
+}
+
+TEST(CoupledRun, SharedMemoryLeavesNoSegmentBehind) {
+  run_coupled(Kind::ipc, {{100}}, 2);
+  const std::string prefix = "dld-coupler-" + std::to_string(getpid()) + "-";
+  for (const auto& entry : std::filesystem::directory_iterator("/dev/shm")) {
+    EXPECT_FALSE(entry.path().filename().string().starts_with(prefix)) << entry.path();
   }
 }
 

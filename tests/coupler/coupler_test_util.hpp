@@ -125,20 +125,23 @@ struct RunRecord {
   std::vector<std::vector<std::vector<double>>> membrane_velocities;  ///< [peer][step]
   std::string fluid_error;
   std::vector<std::string> membrane_errors;
+  std::vector<int> shared_memory;  ///< per peer, as the membrane saw it (not vector<bool>: threads)
 };
 
 /// Runs `steps` exchanges between one fluid and one membrane per entry of `split` (the node counts
 /// of that peer's cells), each side in its own thread; the membranes end the run.
 inline RunRecord run_coupled(Kind kind, const std::vector<std::vector<std::uint32_t>>& split,
-                             int steps) {
+                             int steps, bool fluid_shm = true, bool membrane_shm = true) {
   TempDir dir;
   zmq::context_t context;
   std::uint32_t cells = 0;
   for (const auto& s : split) cells += static_cast<std::uint32_t>(s.size());
   FluidConfig fc{test_scene(cells), fluid_endpoints(kind, split.size(), dir), {}, test_options()};
+  fc.options.shared_memory = fluid_shm;
   RunRecord rec;
   rec.membrane_velocities.resize(split.size());
   rec.membrane_errors.resize(split.size());
+  rec.shared_memory.resize(split.size());
   auto fluid = std::make_unique<FluidSide>(fc, context);
   const auto endpoints = fluid->endpoints();
 
@@ -169,10 +172,12 @@ inline RunRecord run_coupled(Kind kind, const std::vector<std::vector<std::uint3
                       first_cell,
                       split[k],
                       test_options()};
+    mc.options.shared_memory = membrane_shm;
     membranes.emplace_back([&rec, &context, mc, k, first_node, steps] {
       try {
         MembraneSide m(mc, context);
         m.initialize();
+        rec.shared_memory[k] = m.shared_memory();
         const std::size_t n = 3 * m.node_count();
         std::vector<double> x(n), f(n), u(n);
         for (int s = 0; s < steps; ++s) {
