@@ -61,6 +61,10 @@ class FluidSide {
   std::span<const double> forces() const;
   /// Velocities for exactly the received nodes (3 x node_count()); completes the step.
   void send_velocities(std::span<const double> velocities);
+  /// Where to put the velocities to save a copy: with one peer on a shared-memory link this is
+  /// the segment itself, and send_velocities(velocities_buffer()) copies nothing. Writable
+  /// between receive() and send_velocities(); 3 x node_count() doubles.
+  std::span<double> velocities_buffer();
   /// Ends the run: peers still running get a shutdown frame. Closes the sockets.
   void finalize();
   /// Stops the run because of an error of the fluid program: every peer receives `message` and
@@ -116,7 +120,8 @@ class FluidSide {
   std::vector<double> forces_;
   std::span<const double> positions_view_;
   std::span<const double> forces_view_;
-  FramePool pool_;  // velocity frames
+  std::vector<double> velocities_;  // velocities_buffer() when it cannot be the segment
+  FramePool pool_;                  // velocity frames
 };
 
 }  // namespace dld::coupler

@@ -24,6 +24,11 @@ double seconds(std::chrono::milliseconds t) {
   return static_cast<double>(t.count()) / 1000.0;
 }
 
+// Data written through positions_buffer()/forces_buffer() is already in place.
+void copy_unless_same(std::byte* to, const double* from, std::size_t bytes) {
+  if (static_cast<const void*>(to) != static_cast<const void*>(from)) std::memcpy(to, from, bytes);
+}
+
 }  // namespace
 
 MembraneSide::MembraneSide(MembraneConfig config)
@@ -170,8 +175,8 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
     const std::size_t bytes = 3 * sizeof(double) * nodes_;
     zmq::message_t frame;
     if (shared_) {
-      std::memcpy(segment_.data(), positions.data(), bytes);
-      std::memcpy(segment_.data() + bytes, forces.data(), bytes);
+      copy_unless_same(segment_.data(), positions.data(), bytes);
+      copy_unless_same(segment_.data() + bytes, forces.data(), bytes);
       frame = encode_count(FrameType::step_shared, step_, nodes_);
     } else {
       frame = encode_step(step_, positions, forces, &pool_);
@@ -220,6 +225,20 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
     std::memcpy(unaligned_.data(), data, unaligned_.size() * sizeof(double));
     return std::span<const double>(unaligned_);
   });
+}
+
+std::span<double> MembraneSide::positions_buffer() {
+  check_call(self_, "positions_buffer()", state_, {State::running});
+  if (shared_) return {reinterpret_cast<double*>(segment_.data()), 3 * nodes_};
+  staging_.resize(6 * nodes_);
+  return std::span<double>(staging_).first(3 * nodes_);
+}
+
+std::span<double> MembraneSide::forces_buffer() {
+  check_call(self_, "forces_buffer()", state_, {State::running});
+  if (shared_) return {reinterpret_cast<double*>(segment_.data()) + 3 * nodes_, 3 * nodes_};
+  staging_.resize(6 * nodes_);
+  return std::span<double>(staging_).last(3 * nodes_);
 }
 
 void MembraneSide::finalize() {

@@ -61,6 +61,11 @@ class MembraneSide {
   /// received frame, valid until the next call; nothing if the fluid ended the run.
   [[nodiscard]] std::optional<std::span<const double>> exchange(std::span<const double> positions,
                                                                 std::span<const double> forces);
+  /// Where to put positions and forces to save the first copy too: on a shared-memory link these
+  /// are the segment itself, and exchange(positions_buffer(), forces_buffer()) copies nothing.
+  /// Writable after initialize() until the next exchange; 3 x node_count() doubles each.
+  std::span<double> positions_buffer();
+  std::span<double> forces_buffer();
   void finalize();
   /// Stops the run because of an error of the membrane program: the fluid receives `message`, and
   /// through it every other membrane peer. The side is failed afterwards.
@@ -89,6 +94,7 @@ class MembraneSide {
   FramePool pool_;                 // step frames
   zmq::message_t reply_;           // the last velocities frame, viewed by exchange()
   std::vector<double> unaligned_;  // copy target if a frame's doubles are not aligned
+  std::vector<double> staging_;    // positions_buffer() | forces_buffer() without shared memory
   SharedSegment segment_;  // ipc data path: positions | forces | velocities, 24 N bytes each
   bool shared_ = false;    // the fluid accepted the segment
 };

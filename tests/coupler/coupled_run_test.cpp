@@ -63,6 +63,48 @@ TEST_P(CoupledRun, SharedMemoryOnlyOnIpc) {
   for (int shared : rec.shared_memory) EXPECT_EQ(shared != 0, GetParam() == Kind::ipc);
 }
 
+// The zero-copy way: both sides write into the coupler's buffers (the shared segment on ipc).
+TEST_P(CoupledRun, InPlaceBuffersCarryTheSameData) {
+  zmq::context_t context;
+  TempDir dir;
+  const std::vector<std::uint32_t> cells{1002, 642};
+  FluidSide fluid({test_scene(2), fluid_endpoints(GetParam(), 1, dir), {}, test_options()},
+                  context);
+  std::vector<std::vector<double>> got;
+  std::thread membrane_thread([&] {
+    MembraneSide m(
+        {test_scene(2), fluid.endpoints()[0], "membrane-0", 0, 1, 0, cells, test_options()},
+        context);
+    m.initialize();
+    std::vector<double> x(3 * m.node_count()), f(x.size());
+    for (int s = 0; s < 3; ++s) {
+      fill_nodes(m.step(), 0, x, f);
+      std::copy(x.begin(), x.end(), m.positions_buffer().begin());
+      std::copy(f.begin(), f.end(), m.forces_buffer().begin());
+      const auto u = m.exchange(m.positions_buffer(), m.forces_buffer());
+      ASSERT_TRUE(u.has_value());
+      got.emplace_back(u->begin(), u->end());
+    }
+    m.finalize();
+  });
+  fluid.initialize();
+  std::vector<double> u;
+  while (fluid.receive()) {
+    dummy_velocities(fluid.step(), fluid.positions(), fluid.forces(), u);
+    std::copy(u.begin(), u.end(), fluid.velocities_buffer().begin());
+    fluid.send_velocities(fluid.velocities_buffer());
+  }
+  fluid.finalize();
+  membrane_thread.join();
+  ASSERT_EQ(got.size(), 3u);
+  for (int s = 0; s < 3; ++s) {
+    std::vector<double> x(3 * (1002 + 642)), f(x.size()), expected;
+    fill_nodes(s, 0, x, f);
+    dummy_velocities(s, x, f, expected);
+    EXPECT_TRUE(bit_equal(got[s], expected)) << "step " << s;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Transports, CoupledRun,
                          ::testing::Values(Kind::inproc, Kind::ipc, Kind::tcp),
                          [](const auto& p) { return name(p.param); });
