@@ -55,8 +55,9 @@ class FluidSide {
   /// Waits for step step() from every peer. False when all peers sent shutdown instead.
   [[nodiscard]] bool receive();
   /// Concatenated node positions and forces of the received step: 3 x node_count() doubles,
-  /// node-major (x0 y0 z0 x1 ...). Valid until the next receive(). With one peer they point
-  /// into the received frame itself (no copy); with several, into one concatenated array.
+  /// node-major (x0 y0 z0 x1 ...). Valid until send_velocities(). With one peer they point into
+  /// the received frame or the shared segment (no copy); with several, into one concatenated
+  /// array.
   std::span<const double> positions() const;
   std::span<const double> forces() const;
   /// Velocities for exactly the received nodes (3 x node_count()); completes the step.
