@@ -38,6 +38,11 @@ void apply_bounce_back(const Lattice& lattice, double* f) {
   const std::size_t count = links.size();
 #pragma omp parallel for schedule(static)
   for (std::size_t l = 0; l < count; ++l) f[links[l].target] = f[links[l].source];
+  const auto& curved = lattice.curved_links();
+  const std::size_t ncurved = curved.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t l = 0; l < ncurved; ++l)
+    f[curved[l].target] = curved[l].a * f[curved[l].first] + curved[l].b * f[curved[l].second];
   if (lattice.domain().walls_z) {
     wall_plane(lattice, f, 0, +1, lattice.domain().wall_velocity_low);
     wall_plane(lattice, f, lattice.nz() - 1, -1, lattice.domain().wall_velocity_high);

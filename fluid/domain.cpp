@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/domain.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace dld::fluid {
@@ -21,6 +22,24 @@ bool Domain::in_pillar(double x, double y) const {
 bool Domain::solid_node(int i, int j, int k) const {
   if (walls_z && (k < 0 || k >= nz)) return true;
   return in_pillar(i + 0.5, j + 0.5);
+}
+
+double Domain::pillar_link_fraction(double x, double y, int cx, int cy) const {
+  double best = 2.0;
+  if (cx == 0 && cy == 0) return 0.5;
+  for (const Pillar& p : pillars)
+    for (int ix = -1; ix <= 1; ++ix)
+      for (int iy = -1; iy <= 1; ++iy) {
+        // |(x, y) + t (cx, cy) - centre|^2 = R^2: smallest root in (0, 1].
+        const double ox = x - (p.x + ix * nx), oy = y - (p.y + ix * shift + iy * ny);
+        const double a = cx * cx + cy * cy, b = 2.0 * (ox * cx + oy * cy);
+        const double c = ox * ox + oy * oy - p.radius * p.radius;
+        const double disc = b * b - 4.0 * a * c;
+        if (disc < 0) continue;
+        const double t = (-b - std::sqrt(disc)) / (2.0 * a);
+        if (t > 0.0 && t <= 1.0) best = std::min(best, t);
+      }
+  return best <= 1.0 ? best : 0.5;
 }
 
 Domain dld_domain(const DldCell& cell_lu, int nx, int ny, int nz) {

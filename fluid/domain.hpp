@@ -24,11 +24,17 @@ struct Domain {
   std::array<double, 3> wall_velocity_low{0, 0, 0};
   std::array<double, 3> wall_velocity_high{0, 0, 0};
   std::vector<Pillar> pillars;
+  /// Pillar walls: false = half-way bounce-back (wall half-way along each link, exact mass
+  /// conservation); true = Bouzidi interpolated bounce-back (wall at its true distance).
+  bool curved_walls = false;
 
   /// True if the point (x, y) lies in a pillar or one of its periodic (shifted) images.
   bool in_pillar(double x, double y) const;
   /// Node (i, j, k) may lie in the ghost layer (-1 or n); z outside [0, nz) is solid with walls.
   bool solid_node(int i, int j, int k) const;
+  /// Fraction t in (0, 1] of the link from (x, y) along (cx, cy) at which it enters a pillar (or
+  /// an image); 0.5 if the link does not cross a pillar surface in the plane.
+  double pillar_link_fraction(double x, double y, int cx, int cy) const;
 };
 
 /// The DLD unit cell (SPEC section 2) on a lattice: one pillar in the middle of the box.

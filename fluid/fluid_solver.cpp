@@ -9,6 +9,7 @@ namespace dld::fluid {
 FluidConfig fluid_config(const Scene& scene) {
   FluidConfig c;
   c.domain = dld_domain(scene.cell_lu(), scene.nx(), scene.ny(), scene.nz());
+  c.domain.curved_walls = scene.lattice.curved_walls;
   c.collision = scene.lattice.collision;
   c.tau = scene.lattice.tau;
   c.magic = scene.lattice.trt_magic;

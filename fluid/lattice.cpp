@@ -57,8 +57,26 @@ Lattice::Lattice(Domain domain) : domain_(std::move(domain)) {
           if (!solid_[s]) continue;
           // Wall planes are handled as whole-plane copies (apply_bounce_back), not links.
           if (domain_.walls_z && (k - D3Q19::c[q][2] < 0 || k - D3Q19::c[q][2] >= nz())) continue;
-          links_.push_back({static_cast<std::uint32_t>(q * padded_ + s),
-                            static_cast<std::uint32_t>(D3Q19::opp[q] * padded_ + f)});
+          const auto target = static_cast<std::uint32_t>(q * padded_ + s);
+          const auto first = static_cast<std::uint32_t>(D3Q19::opp[q] * padded_ + f);
+          if (!domain_.curved_walls) {
+            links_.push_back({target, first});
+            continue;
+          }
+          // The link from f towards the wall runs along c_opp(q) = -c_q.
+          const double t = domain_.pillar_link_fraction(i + 0.5, j + 0.5, -D3Q19::c[q][0],
+                                                        -D3Q19::c[q][1]);
+          const std::size_t behind = f + offsets_[q];  // f - c_opp(q), the next node away from the wall
+          if (t < 0.5 && !solid_[behind]) {
+            curved_links_.push_back({target, first,
+                                     static_cast<std::uint32_t>(D3Q19::opp[q] * padded_ + behind),
+                                     2.0 * t, 1.0 - 2.0 * t});
+          } else if (t >= 0.5) {
+            curved_links_.push_back({target, first, static_cast<std::uint32_t>(q * padded_ + f),
+                                     0.5 / t, (2.0 * t - 1.0) / (2.0 * t)});
+          } else {
+            links_.push_back({target, first});  // too thin a gap to interpolate: plain bounce-back
+          }
         }
       }
 }

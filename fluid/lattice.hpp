@@ -26,6 +26,15 @@ struct BounceBackLink {
   std::uint32_t source;  ///< opp(i) * padded_size + (s + c_i)
 };
 
+/// Interpolated bounce-back link (Bouzidi, Firdaouss, Lallemand, Phys. Fluids 13 (2001) 3452,
+/// eq. 5): target = a * f[first] + b * f[second], with the wall at fraction t of the link.
+struct CurvedLink {
+  std::uint32_t target;
+  std::uint32_t first;   ///< opp(i) * n + f: the population that hits the wall
+  std::uint32_t second;  ///< t < 1/2: opp(i) * n + (f + c_i), the node behind; else i * n + f
+  double a, b;
+};
+
 class Lattice {
  public:
   explicit Lattice(Domain domain);
@@ -51,6 +60,8 @@ class Lattice {
   const std::vector<Segment>& segments() const { return segments_; }
   /// Links to solid nodes inside the box (pillars); the z walls are whole planes instead.
   const std::vector<BounceBackLink>& links() const { return links_; }
+  /// Pillar links with the wall at its true position (Domain::curved_walls).
+  const std::vector<CurvedLink>& curved_links() const { return curved_links_; }
   std::size_t fluid_nodes() const { return fluid_nodes_; }
 
  private:
@@ -60,6 +71,7 @@ class Lattice {
   std::vector<std::uint8_t> solid_;
   std::vector<Segment> segments_;
   std::vector<BounceBackLink> links_;
+  std::vector<CurvedLink> curved_links_;
   std::size_t fluid_nodes_ = 0;
 };
 

@@ -52,6 +52,7 @@ Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown) {
   s.lattice.collision = l.choice("collision", {"trt", "bgk"}, "trt") == "bgk" ? CollisionKind::kBgk
                                                                               : CollisionKind::kTrt;
   s.lattice.trt_magic = l.positive("trt_magic", 3.0 / 16.0);
+  s.lattice.curved_walls = l.choice("wall_rule", {"bounce_back", "bouzidi"}, "bounce_back") == "bouzidi";
   whole_nodes(l, s.cell_um.lambda, s.lattice.dx_um, "pillar spacing lambda");
   int nz = whole_nodes(l, s.cell_um.depth, s.lattice.dx_um, "depth H");
   if (nz < 2) l.fail("dx_um", "the depth must span at least 2 nodes");
@@ -158,8 +159,9 @@ std::string Scene::describe() const {
                          ? fmt::format(", Lambda {:.6g}", lattice.trt_magic)
                          : std::string(),
                      u.nu_lu());
-  out += fmt::format("  lattice box: {} x {} x {} nodes, R {:.4g}, G {:.4g}, d {:.4g} nodes\n", nx(), ny(),
-                     nz(), c.radius, c.gap(), c.shift);
+  out += fmt::format("  lattice box: {} x {} x {} nodes, R {:.4g}, G {:.4g}, d {:.4g} nodes; pillar wall: {}\n",
+                     nx(), ny(), nz(), c.radius, c.gap(), c.shift,
+                     lattice.curved_walls ? "Bouzidi interpolated bounce-back" : "half-way bounce-back");
   out += fmt::format("  lattice body force: f_x {:.6g} (lattice units)", force_x_lu());
   return out;
 }

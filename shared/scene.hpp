@@ -22,6 +22,7 @@ struct LatticeParams {
   double tau = 1.0;              ///< outer relaxation time [-]; nu_lu = (tau - 1/2)/3
   CollisionKind collision = CollisionKind::kTrt;
   double trt_magic = 3.0 / 16.0; ///< TRT Lambda = (tau+ - 1/2)(tau- - 1/2) [-]
+  bool curved_walls = false;     ///< pillar: Bouzidi interpolated bounce-back instead of half-way
 };
 
 struct FluidParams {
