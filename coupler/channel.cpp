@@ -14,7 +14,9 @@ namespace {
 
 // The fluid is the CURVE server (it binds); each membrane a client that knows the server's key.
 void set_curve(zmq::socket_t& socket, Channel::Role role, const Options& options) {
-  if (!options.curve) return;
+  if (!options.curve) {
+    return;
+  }
   const CurveKeys& keys = *options.curve;
   if (role == Channel::Role::bind) {
     socket.set(zmq::sockopt::curve_server, 1);
@@ -54,7 +56,9 @@ Channel::Channel(zmq::context_t& context, Role role, const std::string& endpoint
     throw CouplerError(fmt::format("{}: cannot {} '{}': {}", self,
                                    role == Role::bind ? "bind" : "connect", endpoint, e.what()));
   }
-  if (endpoint_.empty()) endpoint_ = endpoint;  // inproc reports no last endpoint on some versions
+  if (endpoint_.empty()) {
+    endpoint_ = endpoint;  // inproc reports no last endpoint on some versions
+  }
 }
 
 bool Channel::send(zmq::message_t& frame) {
@@ -62,7 +66,9 @@ bool Channel::send(zmq::message_t& frame) {
     try {
       return socket_.send(frame, zmq::send_flags::none).has_value();
     } catch (const zmq::error_t& e) {
-      if (e.num() != EINTR) throw;  // a signal (Ctrl-C) is the program's to handle, between steps
+      if (e.num() != EINTR) {
+        throw;  // a signal (Ctrl-C) is the program's to handle, between steps
+      }
     }
   }
 }
@@ -75,9 +81,13 @@ int poll_for(std::vector<zmq::pollitem_t>& items, std::chrono::steady_clock::tim
     try {
       ready = zmq::poll(items, std::max(left, std::chrono::milliseconds{0}));
     } catch (const zmq::error_t& e) {
-      if (e.num() != EINTR) throw;
+      if (e.num() != EINTR) {
+        throw;
+      }
     }
-    if (ready > 0 || left.count() <= 0) return ready;
+    if (ready > 0 || left.count() <= 0) {
+      return ready;
+    }
   }
 }
 
@@ -91,9 +101,13 @@ void Channel::try_send(zmq::message_t&& frame) noexcept {
 
 std::optional<zmq::message_t> Channel::receive(std::chrono::milliseconds timeout) {
   std::vector<zmq::pollitem_t> item{{static_cast<void*>(socket_), 0, ZMQ_POLLIN, 0}};
-  if (poll_for(item, std::chrono::steady_clock::now() + timeout) == 0) return std::nullopt;
+  if (poll_for(item, std::chrono::steady_clock::now() + timeout) == 0) {
+    return std::nullopt;
+  }
   zmq::message_t frame;
-  if (!socket_.recv(frame, zmq::recv_flags::dontwait)) return std::nullopt;
+  if (!socket_.recv(frame, zmq::recv_flags::dontwait)) {
+    return std::nullopt;
+  }
   return frame;
 }
 

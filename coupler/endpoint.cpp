@@ -23,12 +23,16 @@ constexpr std::size_t kMaxIpcPath = 107;
 Transport parse_endpoint(std::string_view endpoint) {
   const auto rest = [&](std::string_view scheme) { return endpoint.substr(scheme.size()); };
   if (endpoint.starts_with("inproc://")) {
-    if (rest("inproc://").empty()) bad(endpoint, "empty inproc name");
+    if (rest("inproc://").empty()) {
+      bad(endpoint, "empty inproc name");
+    }
     return Transport::inproc;
   }
   if (endpoint.starts_with("ipc://")) {
     const auto path = rest("ipc://");
-    if (path.empty()) bad(endpoint, "empty ipc path");
+    if (path.empty()) {
+      bad(endpoint, "empty ipc path");
+    }
     if (path.size() > kMaxIpcPath) {
       bad(endpoint, fmt::format("ipc path of {} bytes is longer than the {} a Unix socket allows",
                                 path.size(), kMaxIpcPath));
@@ -68,7 +72,9 @@ std::vector<std::string> peer_endpoints(std::string_view base, std::size_t peers
     }
     endpoints.push_back(fmt::format("{}:{}", base.substr(0, colon), port + k));
   }
-  for (const auto& e : endpoints) parse_endpoint(e);  // an ipc path may have grown too long
+  for (const auto& e : endpoints) {
+    parse_endpoint(e);  // an ipc path may have grown too long
+  }
   return endpoints;
 }
 

@@ -29,7 +29,9 @@ double seconds(std::chrono::milliseconds t) {
 void check_version(const zmq::message_t& frame, const std::string& label) {
   std::uint32_t magic = 0;
   std::uint16_t version = 0;
-  if (frame.size() < kHeaderBytes) return;  // read_header names it
+  if (frame.size() < kHeaderBytes) {
+    return;  // read_header names it
+  }
   std::memcpy(&magic, frame.data(), 4);
   std::memcpy(&version, static_cast<const std::byte*>(frame.data()) + 4, 2);
   if (magic == kMagic && version != kProtocolVersion) {
@@ -75,7 +77,9 @@ FluidSide::~FluidSide() {
 
 std::vector<std::string> FluidSide::endpoints() const {
   std::vector<std::string> bound;
-  for (const auto& peer : peers_) bound.push_back(peer.channel->endpoint());
+  for (const auto& peer : peers_) {
+    bound.push_back(peer.channel->endpoint());
+  }
   return bound;
 }
 
@@ -123,20 +127,27 @@ void FluidSide::initialize() {
 std::vector<std::size_t> FluidSide::poll(const std::vector<std::size_t>& pending,
                                          std::chrono::steady_clock::time_point deadline) {
   std::vector<zmq::pollitem_t> items;
+  items.reserve(pending.size());
   for (std::size_t k : pending) {
     items.push_back({static_cast<void*>(peers_[k].channel->socket()), 0, ZMQ_POLLIN, 0});
   }
-  if (poll_for(items, deadline) == 0) return {};
+  if (poll_for(items, deadline) == 0) {
+    return {};
+  }
   std::vector<std::size_t> ready;
   for (std::size_t i = 0; i < items.size(); ++i) {
-    if (items[i].revents & ZMQ_POLLIN) ready.push_back(pending[i]);
+    if (items[i].revents & ZMQ_POLLIN) {
+      ready.push_back(pending[i]);
+    }
   }
   return ready;
 }
 
 void FluidSide::receive_hellos() {
   std::vector<std::size_t> pending(peers_.size());
-  for (std::size_t k = 0; k < pending.size(); ++k) pending[k] = k;
+  for (std::size_t k = 0; k < pending.size(); ++k) {
+    pending[k] = k;
+  }
   const auto deadline = std::chrono::steady_clock::now() + config_.options.handshake_timeout;
   while (!pending.empty()) {
     const auto ready = poll(pending, deadline);
@@ -162,7 +173,9 @@ void FluidSide::receive_hellos() {
                         fmt::format("expected hello, got {}", to_string(header.type)));
       }
       peer.hello = decode_handshake(*frame, header, link);
-      if (peer.hello.side_name.empty()) throw_malformed(link, step_, "side_name", "empty");
+      if (peer.hello.side_name.empty()) {
+        throw_malformed(link, step_, "side_name", "empty");
+      }
       peer.label = membrane_label(peer.hello.side_name);
       std::erase(pending, k);
     }
@@ -179,11 +192,15 @@ void FluidSide::check_hellos() {
   for (std::size_t k = 0; k < peers_.size(); ++k) {
     Peer& peer = peers_[k];
     const Handshake& hello = peer.hello;
-    if (auto what = scene_mismatch(config_.scene, hello.scene, peer.label)) fail(*what);
+    if (auto what = scene_mismatch(config_.scene, hello.scene, peer.label)) {
+      fail(*what);
+    }
     if (hello.peer_count != peers_.size()) {
       fail(mismatch("peer_count", peers_.size(), peer.label, hello.peer_count));
     }
-    if (hello.peer_index != k) fail(mismatch("peer_index", k, peer.label, hello.peer_index));
+    if (hello.peer_index != k) {
+      fail(mismatch("peer_index", k, peer.label, hello.peer_index));
+    }
     if (hello.first_cell != next_cell) {
       fail(mismatch("first_cell", next_cell, peer.label, hello.first_cell));
     }
@@ -197,7 +214,9 @@ void FluidSide::check_hellos() {
       if (!config_.cell_nodes.empty() && config_.cell_nodes[cell] != hello.cell_nodes[i]) {
         fail(mismatch(field, config_.cell_nodes[cell], peer.label, hello.cell_nodes[i]));
       }
-      if (hello.cell_nodes[i] == 0) fail(mismatch(field, "nodes > 0", peer.label, 0));
+      if (hello.cell_nodes[i] == 0) {
+        fail(mismatch(field, "nodes > 0", peer.label, 0));
+      }
       peer.nodes += hello.cell_nodes[i];
     }
     peer.first_node = next_node;
@@ -226,7 +245,7 @@ void FluidSide::map_segments() {
     }
     try {
       peer.segment =
-          SharedSegment::open(peer.hello.shared_memory, 3 * 3 * sizeof(double) * peer.nodes, kSelf);
+          SharedSegment::open(peer.hello.shared_memory, segment_bytes(peer.nodes), kSelf);
     } catch (const CouplerError& e) {
       spdlog::debug("coupler: {} (frames will carry the data)", e.what());
     }
@@ -260,7 +279,9 @@ bool FluidSide::receive_steps() {
     }
   }
   std::size_t shut = 0;
-  for (const Peer& peer : peers_) shut += peer.shut_down ? 1 : 0;
+  for (const Peer& peer : peers_) {
+    shut += peer.shut_down ? 1 : 0;
+  }
   if (shut == peers_.size()) {
     state_ = State::ended;
     spdlog::debug("coupler: membranes ended the run at step {}", step_);
@@ -269,8 +290,12 @@ bool FluidSide::receive_steps() {
   if (shut > 0) {
     std::size_t a = 0;
     std::size_t b = 0;
-    while (!peers_[a].shut_down) ++a;
-    while (peers_[b].shut_down) ++b;
+    while (!peers_[a].shut_down) {
+      ++a;
+    }
+    while (peers_[b].shut_down) {
+      ++b;
+    }
     throw CouplerError(fmt::format(
         "{}: {} ended the run at step {} while {} sent that step: membrane programs must stop "
         "together",
@@ -308,7 +333,9 @@ void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
     throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
   }
   const std::byte* data = read_nodes(frame, header, peer.nodes, shared ? 0 : 2, link);
-  if (shared) data = peer.segment.data();
+  if (shared) {
+    data = peer.segment.data();
+  }
   const std::size_t values = 3 * peer.nodes;
   if (peers_.size() == 1 && reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
     // The frame's bytes are the doubles the membrane sent (same layout, little-endian host).
@@ -377,20 +404,26 @@ void FluidSide::finalize() {
   check_call(kSelf, "finalize()", state_,
              {State::running, State::have_step, State::ended, State::failed});
   if (state_ == State::running || state_ == State::have_step) {
-    for (Peer& peer : peers_) peer.channel->try_send(encode_shutdown(step_));
+    for (Peer& peer : peers_) {
+      peer.channel->try_send(encode_shutdown(step_));
+    }
   }
   state_ = State::finalized;
   peers_.clear();  // close now; linger bounds the delivery of the shutdown frames
 }
 
 void FluidSide::abort(std::string_view message) noexcept {
-  if (state_ == State::finalized || state_ == State::failed) return;
+  if (state_ == State::finalized || state_ == State::failed) {
+    return;
+  }
   broadcast_error(message);
   state_ = State::failed;
 }
 
 void FluidSide::broadcast_error(std::string_view message) noexcept {
-  for (Peer& peer : peers_) peer.channel->try_send(encode_error(step_, message));
+  for (Peer& peer : peers_) {
+    peer.channel->try_send(encode_error(step_, message));
+  }
 }
 
 }  // namespace dld::coupler

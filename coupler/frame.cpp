@@ -183,7 +183,9 @@ std::string read_error_text(const zmq::message_t& frame, const FrameHeader& head
   std::string text(at, std::min<std::size_t>(header.payload_bytes, kMaxErrorText));
   std::replace_if(
       text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  if (text.empty()) text = "(no message)";
+  if (text.empty()) {
+    text = "(no message)";
+  }
   return text;
 }
 

@@ -49,10 +49,10 @@ struct Link {
 
 /// Payload sizes, so senders allocate once and receivers check counts.
 constexpr std::size_t step_payload_bytes(std::size_t nodes) {
-  return 8 + 2 * 3 * 8 * nodes;
+  return 8 + std::size_t{48} * nodes;  // count, positions, forces
 }
 constexpr std::size_t velocities_payload_bytes(std::size_t nodes) {
-  return 8 + 3 * 8 * nodes;
+  return 8 + std::size_t{24} * nodes;  // count, velocities
 }
 
 /// Writes the 24-byte header at `at`.

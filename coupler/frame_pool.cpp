@@ -23,13 +23,17 @@ struct FramePool::Block {
 void FramePool::release(void* /*data*/, void* hint) noexcept {
   auto* block = static_cast<Block*>(hint);
   int expected = kInUse;
-  if (!block->state.compare_exchange_strong(expected, kFree)) delete block;  // orphaned
+  if (!block->state.compare_exchange_strong(expected, kFree)) {
+    delete block;  // orphaned
+  }
 }
 
 FramePool::~FramePool() {
   for (Block* block : blocks_) {
     int expected = kInUse;
-    if (block->state.compare_exchange_strong(expected, kOrphan)) continue;
+    if (block->state.compare_exchange_strong(expected, kOrphan)) {
+      continue;
+    }
     delete block;  // free: nobody else holds it
   }
 }
@@ -39,7 +43,9 @@ zmq::message_t FramePool::make(FrameType type, std::uint64_t step, std::size_t p
   Block* chosen = nullptr;
   for (Block*& block : blocks_) {
     int expected = kFree;
-    if (!block->state.compare_exchange_strong(expected, kInUse)) continue;
+    if (!block->state.compare_exchange_strong(expected, kInUse)) {
+      continue;
+    }
     if (block->capacity < bytes) {  // free and too small: only the pool can see it, replace it
       delete block;
       block = new Block(bytes);
@@ -49,7 +55,9 @@ zmq::message_t FramePool::make(FrameType type, std::uint64_t step, std::size_t p
     break;
   }
   if (chosen == nullptr) {
-    if (blocks_.size() >= kMaxBlocks) return make_frame(type, step, payload_bytes);
+    if (blocks_.size() >= kMaxBlocks) {
+      return make_frame(type, step, payload_bytes);
+    }
     chosen = blocks_.emplace_back(new Block(bytes));
     chosen->state = kInUse;
   }

@@ -124,8 +124,9 @@ std::optional<std::string> scene_mismatch(const SceneIdentity& f, const SceneIde
       return mismatch(field, values.first, label, values.second);
     }
   }
-  if (f.start_step != m.start_step)
+  if (f.start_step != m.start_step) {
     return mismatch("start_step", f.start_step, label, m.start_step);
+  }
   if (f.total_cells != m.total_cells) {
     return mismatch("total_cells", f.total_cells, label, m.total_cells);
   }

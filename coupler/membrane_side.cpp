@@ -26,7 +26,9 @@ double seconds(std::chrono::milliseconds t) {
 
 // Data written through positions_buffer()/forces_buffer() is already in place.
 void copy_unless_same(std::byte* to, const double* from, std::size_t bytes) {
-  if (static_cast<const void*>(to) != static_cast<const void*>(from)) std::memcpy(to, from, bytes);
+  if (static_cast<const void*>(to) != static_cast<const void*>(from)) {
+    std::memcpy(to, from, bytes);
+  }
 }
 
 }  // namespace
@@ -86,7 +88,7 @@ void MembraneSide::initialize() {
     if (config_.options.shared_memory && nodes_ > 0 &&
         parse_endpoint(config_.endpoint) == Transport::ipc) {
       try {
-        segment_ = SharedSegment::create(3 * 3 * sizeof(double) * nodes_, self_);
+        segment_ = SharedSegment::create(segment_bytes(nodes_), self_);
         hello.shared_memory = segment_.name();
       } catch (const CouplerError& e) {
         spdlog::debug("coupler: {} (frames will carry the data)", e.what());
@@ -117,7 +119,9 @@ void MembraneSide::initialize() {
     check_welcome(welcome);
     shared_ = !welcome.shared_memory.empty();
     segment_.unlink();  // the fluid has mapped it (or declined): the name is no longer needed
-    if (!shared_) segment_ = SharedSegment();
+    if (!shared_) {
+      segment_ = SharedSegment();
+    }
     state_ = State::running;
     spdlog::debug("coupler: {} joined the fluid with {} cells, {} nodes", self_,
                   config_.cell_nodes.size(), nodes_);
@@ -129,7 +133,9 @@ void MembraneSide::check_welcome(const Handshake& welcome) {
   const auto fail = [&](const std::string& what) {
     throw CouplerError(fmt::format("{}: {}", self_, what));
   };
-  if (auto what = scene_mismatch(welcome.scene, config_.scene, self_)) fail(*what);
+  if (auto what = scene_mismatch(welcome.scene, config_.scene, self_)) {
+    fail(*what);
+  }
   if (welcome.peer_count != config_.peer_count) {
     fail(mismatch("peer_count", welcome.peer_count, self_, config_.peer_count));
   }
@@ -157,7 +163,9 @@ bool MembraneSide::advance(std::span<const double> positions, std::span<const do
                                             self_, velocities.size(), nodes_));
   }
   const auto received = exchange(positions, forces);
-  if (!received) return false;
+  if (!received) {
+    return false;
+  }
   std::memcpy(velocities.data(), received->data(), received->size_bytes());
   return true;
 }
@@ -216,7 +224,9 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
       throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
     }
     const std::byte* data = read_nodes(reply_, header, nodes_, shared_ ? 0 : 1, link);
-    if (shared_) data = segment_.data() + 2 * bytes;
+    if (shared_) {
+      data = segment_.data() + 2 * bytes;
+    }
     ++step_;
     if (reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
       return std::span<const double>(reinterpret_cast<const double*>(data), 3 * nodes_);
@@ -229,27 +239,35 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
 
 std::span<double> MembraneSide::positions_buffer() {
   check_call(self_, "positions_buffer()", state_, {State::running});
-  if (shared_) return {reinterpret_cast<double*>(segment_.data()), 3 * nodes_};
+  if (shared_) {
+    return {reinterpret_cast<double*>(segment_.data()), 3 * nodes_};
+  }
   staging_.resize(6 * nodes_);
   return std::span<double>(staging_).first(3 * nodes_);
 }
 
 std::span<double> MembraneSide::forces_buffer() {
   check_call(self_, "forces_buffer()", state_, {State::running});
-  if (shared_) return {reinterpret_cast<double*>(segment_.data()) + 3 * nodes_, 3 * nodes_};
+  if (shared_) {
+    return {reinterpret_cast<double*>(segment_.data()) + 3 * nodes_, 3 * nodes_};
+  }
   staging_.resize(6 * nodes_);
   return std::span<double>(staging_).last(3 * nodes_);
 }
 
 void MembraneSide::finalize() {
   check_call(self_, "finalize()", state_, {State::running, State::ended, State::failed});
-  if (state_ == State::running) channel_->try_send(encode_shutdown(step_));
+  if (state_ == State::running) {
+    channel_->try_send(encode_shutdown(step_));
+  }
   state_ = State::finalized;
   channel_.reset();  // close now; linger bounds the delivery of the shutdown frame
 }
 
 void MembraneSide::abort(std::string_view message) noexcept {
-  if (state_ == State::finalized || state_ == State::failed || !channel_) return;
+  if (state_ == State::finalized || state_ == State::failed || !channel_) {
+    return;
+  }
   channel_->try_send(encode_error(step_, message));
   state_ = State::failed;
 }

@@ -90,11 +90,15 @@ SharedSegment& SharedSegment::operator=(SharedSegment&& other) noexcept {
 
 SharedSegment::~SharedSegment() {
   unlink();
-  if (data_ != nullptr) munmap(data_, size_);
+  if (data_ != nullptr) {
+    munmap(data_, size_);
+  }
 }
 
 void SharedSegment::unlink() noexcept {
-  if (owner_) shm_unlink(name_.c_str());
+  if (owner_) {
+    shm_unlink(name_.c_str());
+  }
   owner_ = false;
 }
 

@@ -8,6 +8,11 @@
 
 namespace dld::coupler {
 
+/// Bytes of a peer's segment: positions, forces and velocities, 3 doubles per node each.
+constexpr std::size_t segment_bytes(std::size_t nodes) {
+  return 9 * sizeof(double) * nodes;
+}
+
 class SharedSegment {
  public:
   /// Creates a new segment of `bytes` under a fresh name ("/dld-coupler-<pid>-<n>"). Throws

@@ -28,7 +28,9 @@ std::string_view to_string(State state) {
 
 void check_call(std::string_view self, std::string_view call, State state,
                 std::initializer_list<State> allowed) {
-  if (std::find(allowed.begin(), allowed.end(), state) != allowed.end()) return;
+  if (std::find(allowed.begin(), allowed.end(), state) != allowed.end()) {
+    return;
+  }
   std::string_view why;
   switch (state) {
     case State::created:
@@ -50,7 +52,9 @@ void check_call(std::string_view self, std::string_view call, State state,
       why = "after finalize()";
       break;
   }
-  if (state == State::running && call == "initialize()") why = "twice";
+  if (state == State::running && call == "initialize()") {
+    why = "twice";
+  }
   throw std::logic_error(fmt::format("{}: {} called {}", self, call, why));
 }
 
