@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "fluid/coupled_main.hpp"
 #include "fluid/fluid_run.hpp"
 #include "shared/input_error.hpp"
 #include "shared/log.hpp"
@@ -20,11 +21,17 @@ int main(int argc, char** argv) {
   int threads = -1;
   std::string output;
   bool check_only = false;
+  dld::fluid::CoupledOptions coupled;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
   app.add_option("--steps", steps, "step limit (overrides run.max_steps)")->check(CLI::PositiveNumber);
   app.add_option("--threads", threads, "OpenMP threads (overrides run.threads)")->check(CLI::Range(1, 1024));
   app.add_option("-o,--output", output, "run file (overrides output.file)");
   app.add_flag("--check", check_only, "validate the scene, print it resolved, and exit");
+  app.add_option("--serve", coupled.endpoint,
+                 "coupled mode: serve membrane programs at this endpoint (ipc://path, tcp://host:port)");
+  app.add_option("--peers", coupled.peers, "membrane processes to serve (coupled mode)")->check(CLI::Range(1, 64));
+  app.add_option("--cells", coupled.cells, "total cells of the membrane processes (coupled mode)")
+      ->check(CLI::Range(0, 100000));
   CLI11_PARSE(app, argc, argv);
 
   dld::setup_logging("dld-fluid");
@@ -35,6 +42,10 @@ int main(int argc, char** argv) {
     const int t = threads > 0 ? threads : scene.run.threads;
     if (t > 0) omp_set_num_threads(t);
     spdlog::info("{} OpenMP threads", omp_get_max_threads());
+    if (!coupled.endpoint.empty()) {
+      coupled.output = output;
+      return dld::fluid::serve_coupled(scene, coupled);
+    }
     dld::fluid::FluidRunOptions opt;
     opt.max_steps = steps;
     opt.output = output;

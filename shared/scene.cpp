@@ -2,6 +2,8 @@
 #include "shared/scene.hpp"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -19,8 +21,20 @@ int whole_nodes(const TomlSection& lattice, double length_um, double dx_um, cons
   return static_cast<int>(r);
 }
 
-Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown) {
+/// FNV-1a (64 bit) of the scene text, as 16 hex digits: the same file gives the same identity
+/// on every machine and build.
+std::string fnv1a_hex(std::string_view text) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown, std::string_view text) {
   Scene s;
+  s.hash = fnv1a_hex(text);
   s.file = doc->file();
   s.document = doc;
   TomlSection root = TomlSection::root(doc);
@@ -111,6 +125,14 @@ Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown) {
     s.output.fields = o->boolean("fields", true);
   }
   if (s.output.file.empty()) s.output.file = "runs/" + s.name + ".h5";
+  if (auto c = root.optional_section("coupling")) {
+    s.coupling.ib_kernel = c->choice("ib_kernel", {"peskin2", "peskin3", "peskin4"}, "peskin4");
+    const std::int64_t k = c->integer("membrane_processes", 1);
+    if (k < 1 || k > 64) c->fail("membrane_processes", "expected 1 to 64 membrane processes");
+    s.coupling.membrane_processes = static_cast<int>(k);
+    s.coupling.transport = c->choice("transport", {"ipc", "tcp"}, "ipc");
+    s.coupling.timeout_s = c->in_range("timeout_s", 0.1, 86400.0, 30.0);
+  }
 
   // Lattice velocity check: keep Mach number small so compressibility errors stay negligible.
   LatticeUnits u = s.units();
@@ -167,11 +189,15 @@ std::string Scene::describe() const {
 }
 
 Scene load_scene(const std::string& path, bool check_unknown) {
-  return read(TomlDocument::load(path), check_unknown);
+  auto doc = TomlDocument::load(path);  // reports a missing or unreadable file by name
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return read(doc, check_unknown, text.str());
 }
 
 Scene parse_scene(std::string_view text, const std::string& name, bool check_unknown) {
-  return read(TomlDocument::parse(text, name), check_unknown);
+  return read(TomlDocument::parse(text, name), check_unknown, text);
 }
 
 }  // namespace dld

@@ -55,6 +55,14 @@ struct OutputParams {
   bool fields = true;                 ///< write velocity/density snapshots at all
 };
 
+/// How the fluid and the membrane programs are coupled ([coupling] table).
+struct CouplingParams {
+  std::string ib_kernel = "peskin4";  ///< immersed-boundary kernel: peskin2, peskin3, peskin4
+  int membrane_processes = 1;         ///< cells are split among this many membrane programs
+  std::string transport = "ipc";      ///< ipc (local processes) or tcp (see docs/protocol.md)
+  double timeout_s = 30.0;            ///< a peer silent this long stops the run
+};
+
 struct Scene {
   std::string file;        ///< the scene file it came from
   std::string name;
@@ -65,6 +73,8 @@ struct Scene {
   DriveParams drive;
   RunParams run;
   OutputParams output;
+  CouplingParams coupling;
+  std::string hash;        ///< FNV-1a of the file's bytes: both sides of a coupled run must match
   std::shared_ptr<TomlDocument> document;  ///< the parsed file, for the other programs' tables
 
   LatticeUnits units() const;
@@ -80,9 +90,9 @@ struct Scene {
   std::string describe() const;
 };
 
-/// Tables that programs other than the fluid read (they check their own keys).
+/// Tables that the membrane program reads and checks itself.
 inline const std::vector<std::string>& tables_owned_elsewhere() {
-  static const std::vector<std::string> t{"membrane", "cells", "coupling"};
+  static const std::vector<std::string> t{"membrane", "cells"};
   return t;
 }
 

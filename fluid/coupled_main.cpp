@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: MIT
+// The coupled mode of dld-fluid: serve membrane programs over the coupler. Each step: receive
+// marker positions and forces, spread the forces (immersed boundary), advance the lattice,
+// interpolate the velocity at the markers, send it back (DESIGN.md, "The shape").
+// Markers are in lattice units; the fluid folds them into its box through the shifted faces.
+#include "fluid/coupled_main.hpp"
+
+#include <chrono>
+#include <vector>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "coupler/endpoint.hpp"
+#include "coupler/error.hpp"
+#include "coupler/fluid_side.hpp"
+#include "coupler/scene_identity.hpp"
+#include "fluid/fluid_output.hpp"
+#include "fluid/fluid_solver.hpp"
+#include "fluid/immersed_boundary.hpp"
+#include "fluid/observables.hpp"
+
+namespace dld::fluid {
+
+int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
+  FluidSolver solver(fluid_config(scene));
+  const ImmersedBoundary ib(solver.lattice(), ib_kernel_from_name(scene.coupling.ib_kernel));
+  const LatticeUnits units = scene.units();
+
+  coupler::FluidConfig fc;
+  fc.scene = coupler::scene_identity(scene, static_cast<std::uint32_t>(opt.cells));
+  fc.endpoints = coupler::peer_endpoints(opt.endpoint, static_cast<std::size_t>(opt.peers));
+  fc.options.timeout = std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
+  coupler::FluidSide side(fc);
+
+  std::unique_ptr<FluidRunFile> out;
+  if (!opt.output.empty()) out = std::make_unique<FluidRunFile>(scene, opt.output);
+  try {
+    side.initialize();
+    spdlog::info("coupled with {} membrane process(es), {} markers; {} kernel", side.peer_count(),
+                 side.node_count(), scene.coupling.ib_kernel);
+    std::vector<double> velocity;
+    const auto start = std::chrono::steady_clock::now();
+    std::int64_t steps = 0;
+    while (side.receive()) {
+      const auto x = side.positions();
+      const auto f = side.forces();
+      ib.spread(x, f, solver.force_field());
+      solver.step();
+      velocity.resize(x.size());
+      ib.interpolate(x, solver.velocity_field(), velocity);
+      side.send_velocities(velocity);
+      ++steps;
+      if (steps % scene.run.log_every == 0) {
+        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const auto u = solver.mean_velocity();
+        if (out) out->sample(solver, gap_profile(solver, scene.cell_lu()).flux);
+        spdlog::info("step {:>8}  <u_x> {:.5g} m/s  {:.1f} steps/s", solver.steps(), units.velocity_m_s(u[0]),
+                     steps / secs);
+        if (!std::isfinite(u[0]))
+          throw std::runtime_error(fmt::format("fluid diverged (NaN mean velocity) at step {}", solver.steps()));
+      }
+    }
+    if (out && scene.output.fields) out->snapshot(solver);
+    side.finalize();
+    spdlog::info("membranes ended the run after {} steps", steps);
+    return 0;
+  } catch (const coupler::CouplerError& e) {
+    spdlog::error("{}", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    side.abort(e.what());  // tell the membranes why, so they stop naming the fluid
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+}
+
+}  // namespace dld::fluid

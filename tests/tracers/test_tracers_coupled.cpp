@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: MIT
+// dld-fluid and dld-tracers as two processes over ipc: a run completes, a killed peer stops the
+// other side within the timeout naming it, and a scene mismatch stops both naming the field.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "shared/dld_geometry.hpp"
+#include "shared/h5file.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Process {
+  pid_t pid = -1;
+  std::string log;
+};
+
+Process spawn(const std::vector<std::string>& args, const std::string& log) {
+  Process p{fork(), log};
+  if (p.pid == 0) {
+    FILE* out = std::freopen(log.c_str(), "w", stdout);
+    (void)out;
+    dup2(fileno(stdout), fileno(stderr));
+    std::vector<char*> argv;
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    setenv("OMP_NUM_THREADS", "1", 1);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return p;
+}
+
+/// Exit code, or -1 if it did not end within `limit` (then it is killed).
+int wait_for(const Process& p, double limit_s) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
+  int status = 0;
+  while (std::chrono::steady_clock::now() < end) {
+    if (waitpid(p.pid, &status, WNOHANG) == p.pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(p.pid, SIGKILL);
+  waitpid(p.pid, &status, 0);
+  return -1;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class TracersCoupled : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dld-tracers-" + std::to_string(getpid()) + "-" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string scene(double dx, double timeout_s) {
+    const std::string path = (dir_ / ("scene-" + std::to_string(dx) + ".toml")).string();
+    std::ofstream(path) << "[scene]\nname = \"tracers\"\n[geometry]\npillar_radius_um = 10.0\n"
+                           "pillar_spacing_um = 32.0\ndepth_um = 4.8\nrow_shift_um = 4.4\n"
+                           "[lattice]\ndx_um = " << dx << "\n[drive]\nreynolds = 0.1\n"
+                           "[run]\nlog_every = 500\n[output]\nfields = false\n"
+                           "[coupling]\ntimeout_s = " << timeout_s << "\n";
+    return path;
+  }
+  std::string endpoint() const { return "ipc://" + (dir_ / "sock").string(); }
+  fs::path dir_;
+};
+
+TEST_F(TracersCoupled, RunCompletesAndTracersFollowTheFlow) {
+  const std::string sc = scene(0.8, 30.0), out = (dir_ / "tracers.h5").string();
+  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "6"}, (dir_ / "fluid.log").string());
+  Process tracers = spawn({DLD_TRACERS_EXE, sc, "--connect", endpoint(), "--count", "6", "--steps", "3000",
+                           "-o", out},
+                          (dir_ / "tracers.log").string());
+  EXPECT_EQ(wait_for(tracers, 120), 0) << slurp(tracers.log);
+  EXPECT_EQ(wait_for(fluid, 30), 0) << slurp(fluid.log);
+  dld::H5File f(out, dld::H5File::Mode::kRead);
+  std::vector<std::uint64_t> dims;
+  const auto s = f.read("/tracers/samples", &dims);
+  ASSERT_EQ(dims[1], 1u + 3 * 6);
+  const std::size_t last = (dims[0] - 1) * dims[1];
+  EXPECT_EQ(s[last], 3000.0);
+  const dld::DldCell cell{32.0, 10.0, 4.8, 4.4};
+  for (int m = 0; m < 6; ++m) {
+    const double x0 = s[1 + 3 * m], x1 = s[last + 1 + 3 * m];
+    EXPECT_GT(x1, x0) << "tracer " << m << " must move downstream";
+    for (std::uint64_t r = 0; r < dims[0]; ++r) {
+      const double* p = &s[r * dims[1] + 1 + 3 * m];
+      const auto w = dld::wrap_into_box(cell, {p[0], p[1], p[2]});
+      EXPECT_GT(cell.pillar_distance(w.position[0], w.position[1]), 0.0) << "tracer " << m << " in the pillar";
+      EXPECT_GT(p[2], 0.0);
+      EXPECT_LT(p[2], 4.8);
+    }
+  }
+}
+
+TEST_F(TracersCoupled, KilledPeerStopsTheFluidWithinTheTimeout) {
+  const std::string sc = scene(0.8, 2.0);
+  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "4"}, (dir_ / "fluid.log").string());
+  Process tracers = spawn({DLD_TRACERS_EXE, sc, "--connect", endpoint(), "--count", "4", "--steps", "100000000"},
+                          (dir_ / "tracers.log").string());
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  kill(tracers.pid, SIGKILL);
+  wait_for(tracers, 5);
+  const auto t0 = std::chrono::steady_clock::now();
+  const int rc = wait_for(fluid, 10);
+  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_NE(rc, 0);
+  EXPECT_NE(rc, -1) << "fluid hung";
+  EXPECT_LT(waited, 5.0);
+  const std::string log = slurp(fluid.log);
+  EXPECT_NE(log.find("tracers-0"), std::string::npos) << log;
+  EXPECT_NE(log.find("step"), std::string::npos) << log;
+}
+
+TEST_F(TracersCoupled, SceneMismatchStopsBothNamingTheField) {
+  const std::string a = scene(0.8, 10.0), b = scene(0.4, 10.0);
+  Process fluid = spawn({DLD_FLUID_EXE, a, "--serve", endpoint(), "--cells", "2"}, (dir_ / "fluid.log").string());
+  Process tracers = spawn({DLD_TRACERS_EXE, b, "--connect", endpoint(), "--count", "2", "--steps", "10"},
+                          (dir_ / "tracers.log").string());
+  EXPECT_NE(wait_for(tracers, 20), 0);
+  EXPECT_NE(wait_for(fluid, 20), 0);
+  const std::string lf = slurp(fluid.log), lt = slurp(tracers.log);
+  EXPECT_NE(lf.find("handshake: field"), std::string::npos) << lf;
+  EXPECT_NE(lt.find("handshake: field"), std::string::npos) << lt;
+}
+
+}  // namespace
