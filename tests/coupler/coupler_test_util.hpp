@@ -2,6 +2,7 @@
 // Helpers for the coupler tests: a scene, endpoints per transport, a raw PAIR peer that speaks
 // bytes (to send what a broken program would), and a runner for one coupled run in threads.
 #pragma once
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -81,10 +82,10 @@ inline std::vector<std::string> fluid_endpoints(Kind kind, std::size_t peers, co
   for (std::size_t k = 0; k < peers; ++k) {
     switch (kind) {
       case Kind::inproc:
-        out.push_back("inproc://coupler-test-" + std::to_string(id) + "-" + std::to_string(k));
+        out.push_back(fmt::format("inproc://coupler-test-{}-{}", id, k));
         break;
       case Kind::ipc:
-        out.push_back("ipc://" + (dir.path() / ("c" + std::to_string(k))).string());
+        out.push_back(fmt::format("ipc://{}/c{}", dir.path().string(), k));
         break;
       case Kind::tcp:
         out.push_back("tcp://127.0.0.1:*");
