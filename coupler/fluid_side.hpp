@@ -63,8 +63,9 @@ class FluidSide {
   /// Velocities for exactly the received nodes (3 x node_count()); completes the step.
   void send_velocities(std::span<const double> velocities);
   /// Where to put the velocities to save a copy: with one peer on a shared-memory link this is
-  /// the segment itself, and send_velocities(velocities_buffer()) copies nothing. Writable
-  /// between receive() and send_velocities(); 3 x node_count() doubles.
+  /// the segment itself, and send_velocities(velocities_buffer()) copies nothing. 3 x
+  /// node_count() doubles, the same memory every step, written between receive() and
+  /// send_velocities().
   std::span<double> velocities_buffer();
   /// Ends the run: peers still running get a shutdown frame. Closes the sockets.
   void finalize();

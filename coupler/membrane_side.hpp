@@ -62,8 +62,10 @@ class MembraneSide {
   [[nodiscard]] std::optional<std::span<const double>> exchange(std::span<const double> positions,
                                                                 std::span<const double> forces);
   /// Where to put positions and forces to save the first copy too: on a shared-memory link these
-  /// are the segment itself, and exchange(positions_buffer(), forces_buffer()) copies nothing.
-  /// Writable after initialize() until the next exchange; 3 x node_count() doubles each.
+  /// are the segment itself, and exchange(positions_buffer(), forces_buffer()) copies nothing;
+  /// on other links, staging arrays the frame is encoded from. 3 x node_count() doubles each,
+  /// the same memory every step (a program may keep its node state there), written only between
+  /// exchanges (after initialize()).
   std::span<double> positions_buffer();
   std::span<double> forces_buffer();
   void finalize();

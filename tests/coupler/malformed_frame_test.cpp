@@ -5,6 +5,7 @@
 
 #include <cstring>
 
+#include "coupler/shared_segment.hpp"
 #include "coupler_test_util.hpp"
 
 namespace dld::coupler::test {
@@ -106,6 +107,30 @@ TEST(MalformedHandshake, ShortHelloIsRefused) {
     EXPECT_EQ(std::string(e.what()),
               "fluid: malformed frame from membrane peer 0 at step 0: field 'payload_bytes': "
               "hello record needs at least 96 bytes, got 10");
+  }
+}
+
+// On a shared-memory link the data frames are the small ones; a full step frame is refused.
+TEST(MalformedSharedLink, FullStepFrameIsRefused) {
+  TempDir dir;
+  zmq::context_t context;
+  FluidSide fluid({test_scene(1), {"ipc://" + (dir.path() / "c").string()}, {}, test_options()},
+                  context);
+  RawPeer raw(context, fluid.endpoints()[0], false);
+  SharedSegment segment = SharedSegment::create(segment_bytes(2), "test");
+  Handshake hello = hello_for(test_scene(1), {2});
+  hello.shared_memory = segment.name();
+  raw.send(encode_handshake(FrameType::hello, hello));
+  fluid.initialize();
+  EXPECT_TRUE(fluid.shared_memory(0));
+  ASSERT_TRUE(raw.receive());  // welcome
+  raw.send(encode_step(0, kTwoNodes, kTwoNodes));
+  try {
+    (void)fluid.receive();
+    FAIL() << "accepted";
+  } catch (const CouplerError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              kPrefix + "field 'type': expected step_shared, shutdown or error, got step");
   }
 }
 

@@ -1,0 +1,137 @@
+// SPDX-License-Identifier: MIT
+// dld-run: validates a scene, starts dld-fluid and the membrane program(s) connected over ipc,
+// shows their progress, and stops everything cleanly (Ctrl-C: the membrane programs are asked to
+// end the run; a child that fails stops the others through the coupler's timeout, and the
+// launcher reports which one failed and how).
+//
+// Membrane programs take: SCENE --connect ENDPOINT --peer k --peers K [program options].
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "coupler/launcher/process.hpp"
+#include "shared/input_error.hpp"
+#include "shared/scene.hpp"
+
+namespace {
+
+volatile sig_atomic_t g_interrupted = 0;
+void on_sigint(int) { g_interrupted = 1; }
+
+namespace fs = std::filesystem;
+
+/// Sibling program in the build tree or the install directory of dld-run.
+std::string program(const std::string& name, const std::string& build_path) {
+  const fs::path self = fs::read_symlink("/proc/self/exe").parent_path();
+  for (const fs::path& p : {self / name, fs::path(build_path)})
+    if (fs::exists(p)) return p.string();
+  throw dld::InputError(fmt::format("cannot find the program {} (looked next to dld-run and at {})", name,
+                                    build_path));
+}
+
+std::string last_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dld-run: one coupled run of a scene (fluid + membrane programs over ipc)"};
+  std::string scene_path, membrane = "tracers";
+  int tracers = 16;
+  std::int64_t steps = 1000;
+  bool dry = false;
+  app.add_option("scene", scene_path, "scene file (TOML)")->required();
+  app.add_option("--membrane", membrane, "membrane program: tracers (dld-tracers)")
+      ->check(CLI::IsMember({"tracers"}));
+  app.add_option("--tracers", tracers, "tracer particles per membrane process")->check(CLI::Range(1, 1000000));
+  app.add_option("--steps", steps, "steps to run")->check(CLI::PositiveNumber);
+  app.add_flag("--dry-run", dry, "validate the scene and print the commands, start nothing");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const dld::Scene scene = dld::load_scene(scene_path);
+    fmt::print("{}\n", scene.describe());
+    const int peers = scene.coupling.membrane_processes;
+    const fs::path out = fs::path(scene.output.file);
+    const fs::path run_dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
+    fs::create_directories(run_dir);
+    // ipc paths are limited to ~100 bytes: keep the socket in a short private directory.
+    const fs::path sock_dir = fs::temp_directory_path() / fmt::format("dld-run-{}", getpid());
+    fs::create_directories(sock_dir);
+    const std::string endpoint = "ipc://" + (sock_dir / "fluid").string();
+    const std::string stem = (run_dir / out.stem()).string();
+
+    std::vector<std::vector<std::string>> commands;
+    commands.push_back({program("dld-fluid", DLD_FLUID_EXE), scene_path, "--serve", endpoint, "--peers",
+                        std::to_string(peers), "--cells", std::to_string(tracers * peers), "-o",
+                        stem + "-fluid.h5"});
+    for (int k = 0; k < peers; ++k)
+      commands.push_back({program("dld-tracers", DLD_TRACERS_EXE), scene_path, "--connect", endpoint,
+                          "--peer", std::to_string(k), "--peers", std::to_string(peers), "--count",
+                          std::to_string(tracers), "--steps", std::to_string(steps), "-o",
+                          fmt::format("{}-tracers-{}.h5", stem, k)});
+    for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
+    if (dry) return 0;
+
+    signal(SIGINT, on_sigint);
+    std::vector<dld::coupler::Child> children;
+    children.push_back(dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log"));
+    for (int k = 0; k < peers; ++k)
+      children.push_back(dld::coupler::start_child(fmt::format("dld-tracers-{}", k), commands[k + 1],
+                                                   fmt::format("{}-tracers-{}.log", stem, k)));
+    const auto start = std::chrono::steady_clock::now();
+    int failed = 0;
+    bool interrupted_sent = false;
+    auto last_report = start;
+    while (true) {
+      bool any_running = false;
+      for (auto& c : children) {
+        if (dld::coupler::poll_child(c) && c.exit_code != 0) {
+          fmt::print(stderr, "dld-run: {} stopped with exit code {}: {}\n", c.name, c.exit_code, last_line(c.log));
+          failed = failed ? failed : c.exit_code;
+        }
+        any_running = any_running || c.running;
+      }
+      if (!any_running) break;
+      if (g_interrupted && !interrupted_sent) {
+        fmt::print(stderr, "dld-run: interrupted; asking the membrane programs to end the run\n");
+        for (std::size_t k = 1; k < children.size(); ++k) dld::coupler::signal_child(children[k], SIGINT);
+        interrupted_sent = true;
+      }
+      const auto now = std::chrono::steady_clock::now();
+      // A failed child stops the others through the coupler within the scene's timeout; after
+      // that (plus a margin) the launcher ends them itself.
+      if (failed && now - start > std::chrono::seconds(1)) {
+        static auto deadline = now + std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000) + 5000);
+        if (now > deadline)
+          for (auto& c : children) dld::coupler::signal_child(c, SIGKILL);
+      }
+      if (now - last_report > std::chrono::seconds(5)) {
+        fmt::print("[{:.0f} s] fluid: {}\n", std::chrono::duration<double>(now - start).count(),
+                   last_line(children[0].log));
+        last_report = now;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    fs::remove_all(sock_dir);
+    if (failed) return failed;
+    fmt::print("dld-run: done in {:.1f} s; outputs {}-*.h5, logs {}-*.log\n",
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), stem, stem);
+    return g_interrupted ? 130 : 0;
+  } catch (const dld::InputError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  }
+}

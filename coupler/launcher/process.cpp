@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: MIT
+#include "coupler/launcher/process.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include "shared/input_error.hpp"
+
+namespace dld::coupler {
+
+Child start_child(const std::string& name, const std::vector<std::string>& argv, const std::string& log) {
+  Child c{name, log};
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) throw InputError(fmt::format("{}: cannot create log file", log));
+  c.pid = fork();
+  if (c.pid < 0) throw std::runtime_error("fork failed");
+  if (c.pid == 0) {
+    dup2(fd, STDOUT_FILENO);
+    dup2(fd, STDERR_FILENO);
+    ::close(fd);
+    setpgid(0, 0);  // Ctrl-C reaches the launcher only; it decides how the children stop
+    std::vector<char*> args;
+    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    fmt::print(stderr, "cannot start {}\n", argv[0]);
+    _exit(127);
+  }
+  ::close(fd);
+  c.running = true;
+  return c;
+}
+
+bool poll_child(Child& c) {
+  if (!c.running) return false;
+  int status = 0;
+  if (waitpid(c.pid, &status, WNOHANG) != c.pid) return false;
+  c.running = false;
+  c.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return true;
+}
+
+void signal_child(const Child& c, int sig) {
+  if (c.running) kill(c.pid, sig);
+}
+
+}  // namespace dld::coupler

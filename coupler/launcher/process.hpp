@@ -1,0 +1,26 @@
+// SPDX-License-Identifier: MIT
+// Child processes of the launcher: start with output to a log file, poll, signal.
+#pragma once
+#include <sys/types.h>
+
+#include <string>
+#include <vector>
+
+namespace dld::coupler {
+
+struct Child {
+  std::string name;  ///< "dld-fluid", "dld-tracers-0", ...
+  std::string log;   ///< file receiving its stdout and stderr
+  pid_t pid = -1;
+  bool running = false;
+  int exit_code = 0;  ///< valid once !running; 128 + signal if killed
+};
+
+/// Starts argv[0] with the given arguments; stdout and stderr go to child.log (and, when `echo`
+/// is true, to the launcher's terminal as well through `tee`-like forwarding by the caller).
+Child start_child(const std::string& name, const std::vector<std::string>& argv, const std::string& log);
+/// Updates running/exit_code without blocking; true if the child ended in this call.
+bool poll_child(Child& c);
+void signal_child(const Child& c, int sig);
+
+}  // namespace dld::coupler
