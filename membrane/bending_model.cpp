@@ -35,7 +35,7 @@ double BendingModel::angle(const Hinge& h, const Eigen::Ref<const Points>& x) {
 double BendingModel::energy(const Eigen::Ref<const Points>& x) const {
   double en = 0.0;
   const int n = static_cast<int>(hinges_.size());
-#pragma omp parallel for reduction(+ : en) schedule(static)
+#pragma omp parallel for reduction(+ : en) schedule(static) if (n > 1024)
   for (int k = 0; k < n; ++k) {
     const double d = angle(hinges_[k], x) - theta0_[k];
     en += d * d;
@@ -47,7 +47,7 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
   const int n = static_cast<int>(hinges_.size());
   slot_.resize(3, 4 * n);
   double en = 0.0;
-#pragma omp parallel for reduction(+ : en) schedule(static)
+#pragma omp parallel for reduction(+ : en) schedule(static) if (n > 1024)
   for (int k = 0; k < n; ++k) {
     const Hinge& h = hinges_[k];
     const Eigen::Vector3d a = x.col(h.a), b = x.col(h.b), c = x.col(h.c), d = x.col(h.d);

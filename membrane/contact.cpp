@@ -101,7 +101,7 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
   if (pairs || p_.walls || p_.pillar) build_images(x);
   double energy = 0.0;
   long pair_count = 0;
-#pragma omp parallel for reduction(+ : energy, pair_count) schedule(static)
+#pragma omp parallel for reduction(+ : energy, pair_count) schedule(static) if (n > 1024)
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d& q = wrapped_[i];
     Eigen::Vector3d fi = Eigen::Vector3d::Zero();

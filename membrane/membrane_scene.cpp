@@ -26,11 +26,16 @@ std::vector<std::string> strings(const Scene& scene, const TomlSection& s, std::
 }
 
 double shear_modulus(const Scene& scene, const TomlSection& m, double radius_um) {
-  const bool ca = m.has("capillary_number"), g = m.has("shear_modulus_N_per_m");
-  if (ca == g)
-    m.fail(ca ? "capillary_number" : "shear_modulus_N_per_m",
-           "give exactly one of capillary_number and shear_modulus_N_per_m");
-  if (g) return m.positive("shear_modulus_N_per_m");
+  const std::vector<std::string> keys{"capillary_number", "kappa_s_N_per_m",
+                                      "shear_modulus_N_per_m"};
+  int given = 0;
+  for (const auto& k : keys) given += m.has(k) ? 1 : 0;
+  if (given != 1)
+    m.fail(given ? "capillary_number" : "kappa_s_N_per_m",
+           "give exactly one of capillary_number, kappa_s_N_per_m and shear_modulus_N_per_m");
+  if (m.has("kappa_s_N_per_m")) return m.positive("kappa_s_N_per_m");
+  // Skalak law in Krueger's form has shear modulus G_s = kappa_s / 3.
+  if (m.has("shear_modulus_N_per_m")) return 3.0 * m.positive("shear_modulus_N_per_m");
   const double cap = m.positive("capillary_number");
   const double p = scene.drive.pressure_gradient_Pa_per_m;
   if (!(p > 0.0))
@@ -80,7 +85,7 @@ MembraneScene read_membrane_scene(const Scene& scene) {
                          scene.fluid.viscosity_Pa_s / scene.fluid.density_kg_m3,
                          scene.fluid.density_kg_m3);
   const ModelContext ctx{out.reference_lu, out.kappa_s_lu, out.radius_lu,
-                         units.modulus_lu(ref.modulus_n_m(1.0))};
+                         units.modulus_lu(ref.modulus_n_m(1.0)), units.energy_lu(1.0)};
   std::vector<std::string> names = strings(scene, m, "models");
   std::vector<AnyModel> models;
   for (std::size_t i = 0; i < names.size(); ++i) {

@@ -32,8 +32,16 @@ AnyModel make_neo_hookean(const std::optional<TomlSection>& /*t*/, const ModelCo
 }
 
 AnyModel make_bending(const std::optional<TomlSection>& t, const ModelContext& c) {
-  const double rel = need(t, "bending").in_range("modulus_rel", 0.0, 1e3);
-  return BendingModel(c.reference, {rel * c.kappa_s_lu * c.radius_lu * c.radius_lu});
+  const TomlSection& s = need(t, "bending");
+  const bool rel = s.has("modulus_rel"), joule = s.has("modulus_J");
+  if (rel == joule)
+    s.fail(
+        rel ? "modulus_rel" : "modulus_J",
+        "give exactly one of modulus_rel (kappa_b / (kappa_s r^2)) and modulus_J (kappa_b in J)");
+  if (joule)
+    return BendingModel(c.reference, {s.in_range("modulus_J", 0.0, 1e-15) * c.energy_to_lu});
+  return BendingModel(c.reference, {s.in_range("modulus_rel", 0.0, 1e3) * c.kappa_s_lu *
+                                    c.radius_lu * c.radius_lu});
 }
 
 AnyModel make_volume(const std::optional<TomlSection>& t, const ModelContext& c) {

@@ -27,6 +27,7 @@ struct ModelContext {
   double radius_lu;          ///< cell radius r [lattice lengths]
   double ref_modulus_to_lu;  ///< factor: modulus in lattice units of the dx = 0.4 um reference
                              ///< lattice (same tau and fluid) -> this lattice's units
+  double energy_to_lu;       ///< factor: J -> lattice energy
 };
 
 struct ModelEntry {

@@ -43,7 +43,7 @@ class TriangleElements {
   double energy(const Eigen::Ref<const Points>& x) const {
     double e = 0.0;
     const int n = static_cast<int>(tri_.size());
-#pragma omp parallel for reduction(+ : e) schedule(static)
+#pragma omp parallel for reduction(+ : e) schedule(static) if (n > 1024)
     for (int k = 0; k < n; ++k) {
       double i1, i2;
       Eigen::Matrix2d c;
@@ -58,7 +58,7 @@ class TriangleElements {
     const int n = static_cast<int>(tri_.size());
     slot_.resize(3, 3 * n);
     double e = 0.0;
-#pragma omp parallel for reduction(+ : e) schedule(static)
+#pragma omp parallel for reduction(+ : e) schedule(static) if (n > 1024)
     for (int k = 0; k < n; ++k) {
       const TriangleReference& t = tri_[k];
       double i1, i2;

@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+// Contact repulsion: force is minus the gradient of the contact energy, pairs across the periodic
+// y and shifted-periodic x boundaries are found, cell-cell forces balance, walls and pillar push
+// nodes away.
+#include "membrane/contact.hpp"
+
+#include <gtest/gtest.h>
+
+#include "shared/input_error.hpp"
+#include "test_meshes.hpp"
+
+namespace dld::membrane {
+namespace {
+
+const DldCell kBox{80.0, 25.0, 12.0, 11.0};  // lattice units: lambda, R, H, d
+
+Contact make(bool walls, bool pillar, bool cells) {
+  return Contact(kBox, ContactParams{1.0, 1e-3, walls, pillar, cells});
+}
+
+TEST(Contact, PairAcrossShiftedPeriodicX) {
+  // (79.7, y) is the same as (-0.3, y - d): 0.5 from a node at (0.2, y - d).
+  Points x(3, 2);
+  x << 0.2, 79.7, 5.0, 5.0 + kBox.shift, 6.0, 6.0;
+  Points f = Points::Zero(3, 2);
+  const Contact c = make(false, false, true);
+  c.add_forces(x, 1, f);
+  EXPECT_EQ(c.last_pair_count(), 1);
+  EXPECT_GT(f(0, 0), 0.0);  // pushed to +x, away from the image at x = -0.3
+  EXPECT_NEAR(f(1, 0), 0.0, 1e-12 * f(0, 0));
+  EXPECT_NEAR((f.col(0) + f.col(1)).norm(), 0.0, 1e-15);
+  // Without the shift the nodes are d apart in y and do not interact.
+  x(1, 1) = 5.0;
+  f.setZero();
+  c.add_forces(x, 1, f);
+  EXPECT_EQ(c.last_pair_count(), 0);
+}
+
+TEST(Contact, PairAcrossPeriodicYAndCorner) {
+  Points x(3, 2);
+  x << 10.0, 10.0, 0.3, 79.9, 6.0, 6.0;
+  Points f = Points::Zero(3, 2);
+  const Contact c = make(false, false, true);
+  c.add_forces(x, 1, f);
+  EXPECT_EQ(c.last_pair_count(), 1);
+  EXPECT_GT(f(1, 0), 0.0);
+  // Corner: (79.8, 79.8) wraps to (-0.2, 79.8 - d) in x, so place the partner there.
+  x << 0.1, 79.8, 79.8 - kBox.shift, 79.8, 6.0, 6.0;
+  f.setZero();
+  c.add_forces(x, 1, f);
+  EXPECT_EQ(c.last_pair_count(), 1);
+}
+
+TEST(Contact, NodesOfOneCellDoNotRepel) {
+  Points x(3, 2);
+  x << 10.0, 10.3, 10.0, 10.0, 6.0, 6.0;
+  Points f = Points::Zero(3, 2);
+  make(false, false, true).add_forces(x, 2, f);
+  EXPECT_EQ(f.norm(), 0.0);
+}
+
+TEST(Contact, WallsAndPillarPushAway) {
+  Points x(3, 3);
+  x << 5.0, 5.0, 40.0 + 25.5, 5.0, 5.0, 40.0, 0.4, 11.7, 6.0;
+  Points f = Points::Zero(3, 3);
+  make(true, true, false).add_forces(x, 1, f);
+  EXPECT_GT(f(2, 0), 0.0);  // bottom wall pushes up
+  EXPECT_LT(f(2, 1), 0.0);  // top wall pushes down
+  EXPECT_GT(f(0, 2), 0.0);  // pillar (centre 40, 40, radius 25) pushes out along +x
+  EXPECT_NEAR(f(1, 2), 0.0, 1e-6 * f(0, 2));
+}
+
+TEST(Contact, ForceIsMinusGradientOfEnergy) {
+  // Two coarse cells face to face 0.6 apart, near the bottom wall and across the x boundary.
+  const TriMesh cell = test::cell_mesh(300, 5.0);
+  const int n = cell.node_count();
+  Points x(3, 2 * n);
+  const double half = cell.nodes.row(0).maxCoeff();
+  x.leftCols(n) = cell.nodes.colwise() + Eigen::Vector3d(79.0 - half, 20.0, 2.0);
+  x.rightCols(n) =
+      cell.nodes.colwise() + Eigen::Vector3d(79.6 + half - 80.0, 20.0 - kBox.shift, 2.1);
+  const Contact c = make(true, true, true);
+  Points f = Points::Zero(3, 2 * n);
+  c.add_forces(x, n, f);
+  ASSERT_GT(c.last_pair_count(), 0);
+  ASSERT_GT(f.norm(), 0.0);
+  Points fd(3, 2 * n);
+  const double h = 1e-6;
+  for (int i = 0; i < x.size(); ++i) {
+    Points xp = x, xm = x;
+    xp.data()[i] += h;
+    xm.data()[i] -= h;
+    fd.data()[i] = -(c.energy(xp, n) - c.energy(xm, n)) / (2 * h);
+  }
+  const double rel = (f - fd).norm() / f.norm();
+  std::printf("contact: %ld pairs, |F + grad E_fd| / |F| = %.2e\n", c.last_pair_count(), rel);
+  EXPECT_LT(rel, 1e-6);
+  // Cell-cell forces alone balance.
+  Points fc = Points::Zero(3, 2 * n);
+  make(false, false, true).add_forces(x, n, fc);
+  EXPECT_LT(fc.rowwise().sum().norm(), 1e-12 * fc.colwise().norm().sum());
+}
+
+TEST(Contact, RefusesBadParameters) {
+  EXPECT_THROW(Contact(kBox, ContactParams{0.0, 1.0}), InputError);
+  EXPECT_THROW(Contact(kBox, ContactParams{1.0, -1.0}), InputError);
+  EXPECT_THROW(Contact(kBox, ContactParams{30.0, 1.0}), InputError);
+}
+
+}  // namespace
+}  // namespace dld::membrane

@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT
+// Bad input is refused with a one-line InputError naming what is wrong: meshes (open,
+// non-manifold, inverted, degenerate, malformed files), model parameters, scene keys.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "membrane/membrane_scene.hpp"
+#include "test_meshes.hpp"
+
+namespace dld::membrane {
+namespace {
+
+std::string refusal(const TriMesh& m) {
+  try {
+    validate_closed_surface(m, "bad.off");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(BadMesh, GoodOctahedronPasses) {
+  EXPECT_EQ(refusal(test::octahedron()), "");
+}
+
+TEST(BadMesh, OpenSurfaceIsRefused) {
+  TriMesh m = test::octahedron();
+  m.faces.pop_back();
+  EXPECT_NE(refusal(m).find("open"), std::string::npos) << refusal(m);
+}
+
+TEST(BadMesh, InvertedSurfaceIsRefused) {
+  TriMesh m = test::octahedron();
+  for (Face& t : m.faces) std::swap(t[1], t[2]);
+  EXPECT_NE(refusal(m).find("inverted"), std::string::npos) << refusal(m);
+}
+
+TEST(BadMesh, InconsistentOrientationIsRefused) {
+  TriMesh m = test::octahedron();
+  std::swap(m.faces[0][1], m.faces[0][2]);
+  EXPECT_NE(refusal(m).find("oriented"), std::string::npos) << refusal(m);
+}
+
+TEST(BadMesh, NonManifoldVertexIsRefused) {
+  // Two octahedra touching at one node (the copy's node 1 is node 0 of the first): every edge has
+  // two faces, but the shared node has two separate fans.
+  const TriMesh a = test::octahedron();
+  TriMesh m = a;
+  m.nodes.conservativeResize(3, 11);
+  std::array<int, 6> map{6, 0, 7, 8, 9, 10};
+  for (int i = 0; i < 6; ++i)
+    if (i != 1) m.nodes.col(map[i]) = a.nodes.col(i) + Eigen::Vector3d(2, 0, 0);
+  for (const Face& t : a.faces) m.faces.push_back({map[t[0]], map[t[1]], map[t[2]]});
+  EXPECT_NE(refusal(m).find("non-manifold vertex"), std::string::npos) << refusal(m);
+}
+
+TEST(BadMesh, NonManifoldEdgeIsRefused) {
+  TriMesh m = test::octahedron();
+  m.faces.push_back(m.faces[0]);
+  EXPECT_NE(refusal(m).find("non-manifold"), std::string::npos) << refusal(m);
+}
+
+TEST(BadMesh, DegenerateTriangleIsRefused) {
+  TriMesh m = test::octahedron();
+  m.nodes.col(4) = 0.5 * (m.nodes.col(0) + m.nodes.col(2));  // apex onto an edge: face 0 flat
+  EXPECT_NE(refusal(m).find("degenerate"), std::string::npos) << refusal(m);
+  TriMesh r = test::octahedron();
+  r.faces[0] = {0, 0, 4};
+  EXPECT_NE(refusal(r).find("degenerate"), std::string::npos) << refusal(r);
+}
+
+TEST(BadMesh, MalformedOffFileIsRefused) {
+  const std::string path = "bad_mesh_test.off";
+  std::ofstream(path) << "OFF\n4 1 0\n0 0 0\n1 0 0\n";
+  EXPECT_THROW(read_off(path), InputError);
+  std::ofstream(path) << "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2 0\n";
+  EXPECT_THROW(read_off(path), InputError);
+  EXPECT_THROW(read_off("no_such_file.off"), InputError);
+  std::filesystem::remove(path);
+}
+
+TEST(BadParameters, ModelsRefuseThem) {
+  const TriMesh m = test::octahedron();
+  EXPECT_THROW(SkalakModel(m, {-1.0, 1.0}), InputError);
+  EXPECT_THROW(SkalakModel(m, {1.0, -1.0}), InputError);
+  EXPECT_THROW(SkalakModel(m, {std::nan(""), 1.0}), InputError);
+  EXPECT_THROW(NeoHookeanModel(m, {0.0}), InputError);
+  EXPECT_THROW(BendingModel(m, {-1.0}), InputError);
+  EXPECT_THROW(VolumePenalty(m, {-1.0}), InputError);
+  EXPECT_THROW(AreaPenalty(m, {-1.0}), InputError);
+}
+
+const char* kBase = R"(
+[scene]
+name = "t"
+[geometry]
+pillar_radius_um = 10.0
+pillar_spacing_um = 32.0
+depth_um = 4.8
+row_shift_um = 4.4
+[lattice]
+dx_um = 0.4
+[drive]
+pressure_gradient_Pa_per_m = 1.0e5
+)";
+
+std::string scene_error(const std::string& membrane) {
+  try {
+    const Scene s = parse_scene(std::string(kBase) + membrane, "t.toml", false);
+    read_membrane_scene(s);
+    s.document->reject_unknown({"coupling"});
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const std::string kGood = R"(
+[membrane]
+mesh_faces = 300
+mesh_cache = "cache/meshes"
+models = ["skalak", "bending", "volume"]
+capillary_number = 0.2
+[membrane.skalak]
+area_ratio = 10.0
+[membrane.bending]
+modulus_rel = 2.5e-3
+[membrane.volume]
+modulus_rel = 100.0
+)";
+
+TEST(SceneKeys, GoodSceneIsAccepted) {
+  EXPECT_EQ(scene_error(kGood), "");
+}
+
+TEST(SceneKeys, CapillaryNumberGivesKappaS) {
+  const Scene s = parse_scene(std::string(kBase) + kGood, "t.toml", false);
+  const MembraneScene m = read_membrane_scene(s);
+  // kappa_s = p' sqrt(G H) r / Ca = 1e5 * sqrt(12e-6 * 4.8e-6) * 3.9e-6 / 0.2
+  EXPECT_NEAR(m.kappa_s_N_per_m, 1e5 * std::sqrt(12e-6 * 4.8e-6) * 3.9e-6 / 0.2, 1e-15);
+  EXPECT_NEAR(m.kappa_s_lu, s.units().modulus_lu(m.kappa_s_N_per_m), 1e-18);
+}
+
+TEST(SceneKeys, ErrorsNameFileLineAndKey) {
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = kGood;
+    t.replace(t.find(from), from.size(), to);
+    return scene_error(t);
+  };
+  std::string e = with("\"skalak\", \"bending\"", "\"skalek\", \"bending\"");
+  EXPECT_NE(e.find("unknown membrane model 'skalek'"), std::string::npos) << e;
+  EXPECT_NE(e.find("t.toml:"), std::string::npos) << e;
+  e = with("capillary_number = 0.2", "capillary_number = 0.2\nkappa_s_N_per_m = 1e-5");
+  EXPECT_NE(e.find("exactly one"), std::string::npos) << e;
+  e = with("area_ratio = 10.0", "area_ratio = -1.0");
+  EXPECT_NE(e.find("membrane.skalak.area_ratio"), std::string::npos) << e;
+  e = with("modulus_rel = 100.0", "modulus_rel = 100.0\nmodulus = 3");
+  EXPECT_NE(e.find("membrane.volume.modulus"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown key"), std::string::npos) << e;
+  e = with("mesh_faces = 300", "mesh_faces = 20");
+  EXPECT_NE(e.find("membrane.mesh_faces"), std::string::npos) << e;
+  e = with("[membrane.bending]\nmodulus_rel = 2.5e-3\n", "");
+  EXPECT_NE(e.find("[membrane.bending]"), std::string::npos) << e;
+  e = scene_error(kGood + "[[cells.cell]]\ncentre_um = [16.0, 16.0, 2.4]\n");
+  EXPECT_NE(e.find("inside the pillar"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace dld::membrane

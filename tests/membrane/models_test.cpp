@@ -1,0 +1,120 @@
+// SPDX-License-Identifier: MIT
+// Properties every membrane model must have: forces are minus the finite-difference gradient of
+// its energy, net force and torque vanish, rigid motions of the rest shape cost nothing.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include "membrane/model_registry.hpp"
+#include "test_meshes.hpp"
+
+namespace dld::membrane {
+namespace {
+
+/// One instance of each registered model on `ref`, with moduli of order one.
+std::vector<std::pair<std::string, AnyModel>> all_models(const TriMesh& ref) {
+  return {{"skalak", SkalakModel(ref, {1.0, 2.0})},
+          {"neo_hookean", NeoHookeanModel(ref, {1.0})},
+          {"bending", BendingModel(ref, {1.0})},
+          {"volume", VolumePenalty(ref, {1.0})},
+          {"area", AreaPenalty(ref, {1.0})}};
+}
+
+double energy(const AnyModel& m, const Points& x) {
+  return std::visit([&](const auto& model) { return model.energy(x); }, m);
+}
+Points forces(const AnyModel& m, const Points& x) {
+  Points f = Points::Zero(3, x.cols());
+  std::visit([&](const auto& model) { model.add_forces(x, f); }, m);
+  return f;
+}
+
+class EveryModel : public ::testing::TestWithParam<int> {
+ protected:
+  static void SetUpTestSuite() { ref_ = new TriMesh(test::cell_mesh(300, 4.0)); }
+  static TriMesh* ref_;
+};
+TriMesh* EveryModel::ref_ = nullptr;
+
+TEST_P(EveryModel, RegistryCoversEveryVariantAlternative) {
+  EXPECT_EQ(model_registry().size(), std::variant_size_v<AnyModel>);
+}
+
+TEST_P(EveryModel, ForceIsMinusFiniteDifferenceGradient) {
+  const auto [name, model] = all_models(*ref_)[GetParam()];
+  SCOPED_TRACE(name);
+  for (unsigned seed : {1u, 2u}) {
+    // Random deformation: an affine stretch plus node noise of 10 % of an edge.
+    Points x = *&ref_->nodes;
+    x.row(0) *= 1.3;
+    x.row(2) *= 0.8;
+    x = test::perturbed(x, 0.05, seed);
+    const Points f = forces(model, x);
+    Points fd(3, x.cols());
+    const double h = 1e-5;
+    for (int i = 0; i < x.size(); ++i) {
+      Points xp = x, xm = x;
+      xp.data()[i] += h;
+      xm.data()[i] -= h;
+      fd.data()[i] = -(energy(model, xp) - energy(model, xm)) / (2 * h);
+    }
+    const double rel = (f - fd).norm() / f.norm();
+    std::printf("%s seed %u: |F + grad E_fd| / |F| = %.2e\n", name.c_str(), seed, rel);
+    EXPECT_LT(rel, 1e-6);
+  }
+}
+
+TEST_P(EveryModel, NetForceAndTorqueVanish) {
+  const auto [name, model] = all_models(*ref_)[GetParam()];
+  SCOPED_TRACE(name);
+  Points x = test::perturbed(ref_->nodes * 1.1, 0.1, 7);
+  x.row(1) *= 0.7;
+  const Points f = forces(model, x);
+  const double scale = f.colwise().norm().sum();
+  ASSERT_GT(scale, 0.0);
+  Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+  for (int i = 0; i < x.cols(); ++i) torque += x.col(i).cross(f.col(i));
+  const double size = x.colwise().norm().maxCoeff();
+  EXPECT_LT(f.rowwise().sum().norm(), 1e-12 * scale);
+  EXPECT_LT(torque.norm(), 1e-12 * scale * size);
+}
+
+TEST_P(EveryModel, RigidMotionOfRestShapeGivesNoForce) {
+  const auto [name, model] = all_models(*ref_)[GetParam()];
+  SCOPED_TRACE(name);
+  // Compare with the force of a 5 % stretch so that "zero" is measured against a real force.
+  Points stretched = ref_->nodes;
+  stretched.row(0) *= 1.05;
+  const double typical = forces(model, stretched).colwise().norm().maxCoeff();
+  ASSERT_GT(typical, 0.0);
+  const Eigen::Matrix3d rot =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Points moved = (rot * ref_->nodes).colwise() + Eigen::Vector3d(3, -2, 5);
+  EXPECT_LT(forces(model, moved).colwise().norm().maxCoeff(), 1e-9 * typical);
+  EXPECT_NEAR(energy(model, moved), 0.0, 1e-12 * energy(model, stretched));
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, EveryModel, ::testing::Range(0, 5));
+
+TEST(BendingModel, AngleIsSignedAndZeroWhenFlat) {
+  // Hinge a=(0,0,0), b=(1,0,0); c on one side in the plane; d folded up or down.
+  Points x(3, 4);
+  x << 0, 1, 0.5, 0.5, 0, 0, 1, -1, 0, 0, 0, 0;
+  const Hinge h{0, 1, 2, 3};
+  EXPECT_NEAR(BendingModel::angle(h, x), 0.0, 1e-15);
+  x(2, 3) = 1.0;  // d lifted: the faces fold by 45 degrees
+  const double up = BendingModel::angle(h, x);
+  x(2, 3) = -1.0;
+  const double down = BendingModel::angle(h, x);
+  EXPECT_NEAR(std::abs(up), M_PI / 4, 1e-12);
+  EXPECT_NEAR(up, -down, 1e-12);
+}
+
+TEST(VolumePenalty, VolumeOfOctahedron) {
+  const TriMesh m = test::octahedron();
+  EXPECT_NEAR(enclosed_volume(m), 4.0 / 3.0, 1e-14);
+  EXPECT_NEAR(surface_area(m), 4.0 * std::sqrt(3.0), 1e-14);
+}
+
+}  // namespace
+}  // namespace dld::membrane
