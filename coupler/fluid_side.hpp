@@ -11,6 +11,7 @@
 //   fluid.finalize();                    // tells the membranes to stop if they have not
 // Peer k's nodes occupy [node_offset(k), node_offset(k) + nodes) in the concatenated arrays.
 // Coupling failures throw CouplerError after telling every peer (error frame), so all stop.
+// One side object belongs to one thread at a time (its ZeroMQ sockets do).
 #pragma once
 #include <cstdint>
 #include <memory>

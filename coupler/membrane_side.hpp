@@ -11,6 +11,7 @@
 //   }
 //   membrane.finalize();                  // tells the fluid the run ends (if it has not ended it)
 // Coupling failures throw CouplerError after telling the fluid (error frame), which stops too.
+// One side object belongs to one thread at a time (its ZeroMQ sockets do).
 #pragma once
 #include <cstdint>
 #include <memory>

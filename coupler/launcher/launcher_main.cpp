@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // dld-run: validates a scene, starts dld-fluid and the membrane program(s) connected over ipc,
-// shows their progress, and stops everything cleanly (Ctrl-C: the membrane programs are asked to
-// end the run; a child that fails stops the others through the coupler's timeout, and the
+// shows their progress, and stops everything cleanly (Ctrl-C: the fluid is asked to end the run
+// after the current step and tells every membrane program; a child that fails stops the others through the coupler's timeout, and the
 // launcher reports which one failed and how).
 //
 // Membrane programs take: SCENE --connect ENDPOINT --peer k --peers K [program options].
@@ -106,8 +106,8 @@ int main(int argc, char** argv) {
       }
       if (!any_running) break;
       if (g_interrupted && !interrupted_sent) {
-        fmt::print(stderr, "dld-run: interrupted; asking the membrane programs to end the run\n");
-        for (std::size_t k = 1; k < children.size(); ++k) dld::coupler::signal_child(children[k], SIGINT);
+        fmt::print(stderr, "dld-run: interrupted; asking the fluid to end the run after this step\n");
+        dld::coupler::signal_child(children[0], SIGINT);
         interrupted_sent = true;
       }
       const auto now = std::chrono::steady_clock::now();
