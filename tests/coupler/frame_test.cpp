@@ -9,6 +9,7 @@
 
 #include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
+#include "coupler/frame_pool.hpp"
 #include "coupler/handshake.hpp"
 #include "shared/input_error.hpp"
 
@@ -150,6 +151,46 @@ TEST(Endpoint, PeerEndpointsOnePerPeer) {
             (std::vector<std::string>{"tcp://127.0.0.1:6000", "tcp://127.0.0.1:6001"}));
   EXPECT_EQ(peer_endpoints("tcp://127.0.0.1:*", 2),
             (std::vector<std::string>{"tcp://127.0.0.1:*", "tcp://127.0.0.1:*"}));
+}
+
+}  // namespace
+}  // namespace dld::coupler
+
+namespace dld::coupler {
+namespace {
+
+TEST(FramePool, ReusesABufferOnceZeroMqReleasesIt) {
+  FramePool pool;
+  const void* first = nullptr;
+  {
+    zmq::message_t a = pool.make(FrameType::velocities, 1, 800);
+    first = a.data();
+    zmq::message_t b = pool.make(FrameType::velocities, 2, 800);  // a still held: a new buffer
+    EXPECT_NE(b.data(), first);
+    EXPECT_EQ(pool.blocks(), 2u);
+  }
+  zmq::message_t c = pool.make(FrameType::velocities, 3, 400);  // smaller fits a freed buffer
+  EXPECT_EQ(pool.blocks(), 2u);
+  const FrameHeader h = read_header(c, kLink, 3);
+  EXPECT_EQ(h.type, FrameType::velocities);
+  EXPECT_EQ(h.payload_bytes, 400u);
+}
+
+TEST(FramePool, FramesMayOutliveThePool) {
+  zmq::message_t survivor;
+  {
+    FramePool pool;
+    survivor = pool.make(FrameType::step, 0, 1 << 20);
+    std::memset(payload(survivor), 7, 1 << 20);
+  }  // the pool is gone; the buffer goes when the last frame does (checked under ASan)
+  EXPECT_EQ(static_cast<unsigned char*>(survivor.data())[kHeaderBytes + 100], 7);
+}
+
+TEST(FramePool, NeverHoldsMoreThanAFewBuffers) {
+  FramePool pool;
+  std::vector<zmq::message_t> held;
+  for (int i = 0; i < 10; ++i) held.push_back(pool.make(FrameType::step, 0, 100));
+  EXPECT_LE(pool.blocks(), 4u);  // beyond that, plain frames: a leak cannot grow without bound
 }
 
 }  // namespace
