@@ -6,6 +6,7 @@
 #include "fluid/coupled_main.hpp"
 
 #include <chrono>
+#include <csignal>
 #include <vector>
 
 #include <fmt/format.h>
@@ -21,6 +22,12 @@
 #include "fluid/observables.hpp"
 
 namespace dld::fluid {
+namespace {
+// Ctrl-C (or dld-run passing one on) ends the run after the current step: the fluid tells every
+// membrane program to stop at the same step, so their files end together.
+volatile sig_atomic_t g_stop = 0;
+void on_sigint(int) { g_stop = 1; }
+}  // namespace
 
 int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
   FluidSolver solver(fluid_config(scene));
@@ -42,7 +49,8 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     std::vector<double> velocity;
     const auto start = std::chrono::steady_clock::now();
     std::int64_t steps = 0;
-    while (side.receive()) {
+    signal(SIGINT, on_sigint);
+    while (!g_stop && side.receive()) {
       const auto x = side.positions();
       const auto f = side.forces();
       ib.spread(x, f, solver.force_field());
@@ -63,7 +71,7 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     }
     if (out && scene.output.fields) out->snapshot(solver);
     side.finalize();
-    spdlog::info("membranes ended the run after {} steps", steps);
+    spdlog::info("{} after {} steps", g_stop ? "interrupted: run ended" : "membranes ended the run", steps);
     return 0;
   } catch (const coupler::CouplerError& e) {
     spdlog::error("{}", e.what());

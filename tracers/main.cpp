@@ -3,6 +3,7 @@
 // (zero force, X += U dt), speaking the same protocol as dld-membrane to the same dld-fluid:
 // the proof that the membrane side can be swapped. Each tracer is a "cell" of one node.
 // Positions are exchanged in lattice units; trajectories are written in device coordinates (um).
+#include <csignal>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -22,6 +23,12 @@
 #include "shared/input_error.hpp"
 #include "shared/log.hpp"
 #include "shared/scene.hpp"
+
+namespace {
+// Ctrl-C (or dld-run passing one on) ends the run cleanly: the fluid gets a shutdown frame.
+volatile sig_atomic_t g_stop = 0;
+void on_sigint(int) { g_stop = 1; }
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"dld-tracers: tracer particles carried by dld-fluid (a second membrane program)"};
@@ -73,7 +80,8 @@ int main(int argc, char** argv) {
     };
     sample(0);
     std::int64_t s = 0;
-    for (; s < steps; ++s) {
+    signal(SIGINT, on_sigint);
+    for (; s < steps && !g_stop; ++s) {
       if (!side.advance(x, force, u)) break;
       for (std::size_t m = 0; m < x.size(); ++m) x[m] += u[m];  // dt = 1 in lattice units
       if ((s + 1) % sample_every == 0) sample(s + 1);

@@ -143,4 +143,37 @@ TEST_F(TracersCoupled, SceneMismatchStopsBothNamingTheField) {
   EXPECT_NE(lt.find("handshake: field"), std::string::npos) << lt;
 }
 
+TEST_F(TracersCoupled, LauncherRunsTwoMembraneProcessesAndStopsCleanlyOnCtrlC) {
+  std::string sc = scene(0.8, 5.0);
+  std::ofstream(sc, std::ios::app) << "membrane_processes = 2\n";
+  {  // output next to the test's files
+    std::ifstream in(sc);
+    std::stringstream t;
+    t << in.rdbuf();
+    std::string text = t.str();
+    text.replace(text.find("[output]\n"), 9, "[output]\nfile = \"" + (dir_ / "run.h5").string() + "\"\n");
+    std::ofstream(sc) << text;
+  }
+  Process run = spawn({DLD_RUN_EXE, sc, "--tracers", "3", "--steps", "100000000"}, (dir_ / "run.log").string());
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  kill(run.pid, SIGINT);
+  EXPECT_EQ(wait_for(run, 20), 130) << slurp(run.log);
+  // Both membrane programs stopped at the same step and wrote their files.
+  std::vector<double> last;
+  for (int k = 0; k < 2; ++k) {
+    dld::H5File f((dir_ / ("run-tracers-" + std::to_string(k) + ".h5")).string(), dld::H5File::Mode::kRead);
+    std::vector<std::uint64_t> dims;
+    const auto s = f.read("/tracers/samples", &dims);
+    last.push_back(s[(dims[0] - 1) * dims[1]]);
+  }
+  const std::string l0 = slurp((dir_ / "run-tracers-0.log").string());
+  const std::string l1 = slurp((dir_ / "run-tracers-1.log").string());
+  const auto steps_of = [](const std::string& log) {
+    const auto p = log.find("tracers ran ");
+    return p == std::string::npos ? std::string("?") : log.substr(p + 12, log.find(' ', p + 12) - p - 12);
+  };
+  EXPECT_EQ(steps_of(l0), steps_of(l1)) << l0 << l1;
+  EXPECT_NE(steps_of(l0), "?") << l0;
+}
+
 }  // namespace
