@@ -36,31 +36,51 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
   Y -= wraps * d.shift;
   s.count = 0;
   double total = 0;
+  // Weights per axis once per marker (the kernel is a product); z is the same for every column.
   const int i0 = static_cast<int>(std::ceil(X - 0.5 - h)), i1 = static_cast<int>(std::floor(X - 0.5 + h));
   const int k0 = static_cast<int>(std::ceil(Z - 0.5 - h)), k1 = static_cast<int>(std::floor(Z - 0.5 + h));
+  int kz[4], nzk = 0;
+  double wz[4];
+  for (int k = k0; k <= k1 && nzk < 4; ++k) {
+    int kw = k;
+    if (d.walls_z) {
+      if (k < 0 || k >= nz) continue;
+    } else {
+      kw = ((k % nz) + nz) % nz;
+    }
+    const double w = phi(kernel_, k + 0.5 - Z);
+    if (w == 0.0) continue;
+    kz[nzk] = kw;
+    wz[nzk++] = w;
+  }
+  const std::uint8_t* solid = lattice_.solid_mask().data();
+  // y weights depend on the column's box only (shifted frame): compute them once per box.
+  int cached_box = 2, j0 = 0, nyj = 0;
+  double wy[4];
   for (int i = i0; i <= i1; ++i) {
     const double wx = phi(kernel_, i + 0.5 - X);
     if (wx == 0.0) continue;
-    const int box = floor_div(i, nx);     // -1, 0 or +1: which neighbouring box the column is in
+    const int box = floor_div(i, nx);  // -1, 0 or +1: which neighbouring box the column is in
     const int iw = i - box * nx;
-    const double Yb = Y - box * d.shift;  // the marker's y in that box's frame
-    const int j0 = static_cast<int>(std::ceil(Yb - 0.5 - h)), j1 = static_cast<int>(std::floor(Yb - 0.5 + h));
-    for (int j = j0; j <= j1; ++j) {
-      const double wy = phi(kernel_, j + 0.5 - Yb);
-      if (wy == 0.0) continue;
-      const int jw = ((j % ny) + ny) % ny;
-      for (int k = k0; k <= k1; ++k) {
-        int kw = k;
-        if (d.walls_z) {
-          if (k < 0 || k >= nz) continue;
-        } else {
-          kw = ((k % nz) + nz) % nz;
-        }
-        if (lattice_.solid(iw, jw, kw)) continue;
-        const double w = wx * wy * phi(kernel_, k + 0.5 - Z);
-        if (w == 0.0) continue;
+    if (box != cached_box) {
+      const double Yb = Y - box * d.shift;  // the marker's y in that box's frame
+      j0 = static_cast<int>(std::ceil(Yb - 0.5 - h));
+      const int j1 = static_cast<int>(std::floor(Yb - 0.5 + h));
+      nyj = std::min(4, j1 - j0 + 1);
+      for (int q = 0; q < nyj; ++q) wy[q] = phi(kernel_, j0 + q + 0.5 - Yb);
+      cached_box = box;
+    }
+    for (int qy = 0; qy < nyj; ++qy) {
+      const double wxy = wx * wy[qy];
+      if (wxy == 0.0) continue;
+      const int j = j0 + qy;
+      const int jw = j < 0 ? j + ny : (j >= ny ? j - ny : j);
+      for (int q = 0; q < nzk; ++q) {
+        const std::size_t node = lattice_.index(iw, jw, kz[q]);
+        if (solid[node]) continue;
+        const double w = wxy * wz[q];
         assert(s.count < IbStencil::kMax);
-        s.node[s.count] = lattice_.index(iw, jw, kw);
+        s.node[s.count] = node;
         s.weight[s.count] = w;
         ++s.count;
         total += w;

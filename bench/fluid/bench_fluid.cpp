@@ -6,9 +6,12 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "fluid/fluid_solver.hpp"
+#include "fluid/immersed_boundary.hpp"
 #include "memory_bandwidth.hpp"
 #include "naive_bgk.hpp"
 #include "shared/scene.hpp"
@@ -79,6 +82,50 @@ void BM_NaiveBgkBox128(benchmark::State& state) {
   report(state, static_cast<double>(s.nodes()));
 }
 BENCHMARK(BM_NaiveBgkBox128)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+
+// Immersed boundary for 17 cells of 1002 markers (the 45.6 % haematocrit case) at dx = 0.4 um:
+// markers on spheres of radius 9 nodes spread over the fluid part of the box.
+std::vector<double> markers_17_cells(const dld::fluid::Lattice& L) {
+  std::vector<double> x;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int cells = 0;
+  while (cells < 17) {
+    const double c[3] = {u(rng) * L.nx(), u(rng) * L.ny(), 0.5 * L.nz()};
+    if (L.domain().in_pillar(c[0], c[1]) || L.domain().in_pillar(c[0] + 9, c[1]) ||
+        L.domain().in_pillar(c[0] - 9, c[1]) || L.domain().in_pillar(c[0], c[1] + 9) ||
+        L.domain().in_pillar(c[0], c[1] - 9))
+      continue;
+    for (int m = 0; m < 1002; ++m) {  // flat disc-like cloud: radius 9, thickness 5 nodes
+      const double phi = 2 * M_PI * u(rng), r = 9 * std::sqrt(u(rng));
+      x.insert(x.end(), {c[0] + r * std::cos(phi), c[1] + r * std::sin(phi), c[2] + 2.5 * (2 * u(rng) - 1)});
+    }
+    ++cells;
+  }
+  return x;
+}
+
+void BM_IbSpread17Cells(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
+  const auto x = markers_17_cells(s.lattice());
+  const std::vector<double> f(x.size(), 1e-6);
+  for (auto _ : state) ib.spread(x, f, s.force_field());
+  state.counters["markers"] = static_cast<double>(x.size() / 3);
+}
+BENCHMARK(BM_IbSpread17Cells)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
+
+void BM_IbInterpolate17Cells(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
+  const auto x = markers_17_cells(s.lattice());
+  std::vector<double> u(x.size());
+  for (auto _ : state) ib.interpolate(x, s.velocity_field(), u);
+  state.counters["markers"] = static_cast<double>(x.size() / 3);
+}
+BENCHMARK(BM_IbInterpolate17Cells)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 void BM_MemoryBandwidth(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
