@@ -10,6 +10,7 @@
 #include <CGAL/IO/facets_in_complex_2_to_triangle_mesh.h>
 #include <CGAL/Implicit_surface_3.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
+#include <CGAL/Random.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
 #include <CGAL/make_surface_mesh.h>
@@ -95,6 +96,9 @@ TriMesh to_trimesh(const SurfaceMesh& sm, const EvansFungShape& s) {
 TriMesh mesh_evans_fung_cgal(const EvansFungShape& shape, int target_faces) {
   if (target_faces < 100 || target_faces > 50000)
     throw InputError(fmt::format("mesh face count {} is outside [100, 50000]", target_faces));
+  // CGAL's default generator is seeded from the clock (initial surface points, remeshing): a
+  // fixed seed makes the mesh a function of its parameters, as the cache key assumes.
+  CGAL::get_default_random() = CGAL::Random(1972);
   const double area = shape.area();
   double h = std::sqrt(4.0 * area / (std::sqrt(3.0) * target_faces));
   // The fine initial surface is what isotropic remeshing projects onto.

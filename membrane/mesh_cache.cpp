@@ -17,8 +17,8 @@ std::string default_mesh_cache_dir() {
 }
 
 std::string mesh_cache_name(const EvansFungShape& shape, int target_faces) {
-  // v1: bump when the meshing pipeline changes so stale files are not reused.
-  return fmt::format("evans_fung_v1_f{}_c{:.6g}_{:.6g}_{:.6g}.off", target_faces, shape.c0,
+  // v2 (fixed CGAL seed): bump when the meshing pipeline changes so stale files are not reused.
+  return fmt::format("evans_fung_v2_f{}_c{:.6g}_{:.6g}_{:.6g}.off", target_faces, shape.c0,
                      shape.c2, shape.c4);
 }
 

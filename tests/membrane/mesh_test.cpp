@@ -43,8 +43,9 @@ void check_cell_mesh(int faces, double tolerance) {
     ASSERT_NEAR(s.implicit(m.nodes(0, i), m.nodes(1, i), m.nodes(2, i)) / (r * r), 0.0, 1e-8)
         << i << ": " << m.nodes.col(i).transpose();
   // Thickness and diameter of the mesh.
-  EXPECT_NEAR(m.nodes.row(0).maxCoeff() - m.nodes.row(0).minCoeff(), 2 * r, 0.02 * r);
-  EXPECT_NEAR(m.nodes.row(2).maxCoeff() - m.nodes.row(2).minCoeff(), s.max_thickness(), 0.02 * r);
+  EXPECT_NEAR(m.nodes.row(0).maxCoeff() - m.nodes.row(0).minCoeff(), 2 * r, tolerance * 2 * r);
+  EXPECT_NEAR(m.nodes.row(2).maxCoeff() - m.nodes.row(2).minCoeff(), s.max_thickness(),
+              tolerance * 2 * r);
 }
 
 TEST(CellMesh, TwoThousandFacesMatchQuadratureWithinOnePercent) {
