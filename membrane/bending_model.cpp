@@ -35,7 +35,7 @@ double BendingModel::angle(const Hinge& h, const Eigen::Ref<const Points>& x) {
 double BendingModel::energy(const Eigen::Ref<const Points>& x) const {
   double en = 0.0;
   const int n = static_cast<int>(hinges_.size());
-#pragma omp parallel for reduction(+ : en) schedule(static) if (n > 1024)
+#pragma omp parallel for reduction(+ : en) schedule(static) if (n > 8192)
   for (int k = 0; k < n; ++k) {
     const double d = angle(hinges_[k], x) - theta0_[k];
     en += d * d;
@@ -45,9 +45,11 @@ double BendingModel::energy(const Eigen::Ref<const Points>& x) const {
 
 double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const {
   const int n = static_cast<int>(hinges_.size());
-  slot_.resize(3, 4 * n);
+  static thread_local Eigen::Matrix3Xd scratch;  // per calling thread, shared by the loop
+  scratch.resize(3, 4 * n);
+  Eigen::Matrix3Xd& slot = scratch;
   double en = 0.0;
-#pragma omp parallel for reduction(+ : en) schedule(static) if (n > 1024)
+#pragma omp parallel for reduction(+ : en) schedule(static) if (n > 8192)
   for (int k = 0; k < n; ++k) {
     const Hinge& h = hinges_[k];
     const Eigen::Vector3d a = x.col(h.a), b = x.col(h.b), c = x.col(h.c), d = x.col(h.d);
@@ -65,12 +67,12 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
     const Eigen::Vector3d ga = -((c - b).dot(e) / le * u1 + (d - b).dot(e) / le * u2);
     const Eigen::Vector3d gb = ((c - a).dot(e) / le * u1 + (d - a).dot(e) / le * u2);
     const double scale = -2.0 * kSqrt3 * p_.kappa_b * dt;  // force = -dE/dtheta * grad theta
-    slot_.col(4 * k) = scale * ga;
-    slot_.col(4 * k + 1) = scale * gb;
-    slot_.col(4 * k + 2) = scale * gc;
-    slot_.col(4 * k + 3) = scale * gd;
+    slot.col(4 * k) = scale * ga;
+    slot.col(4 * k + 1) = scale * gb;
+    slot.col(4 * k + 2) = scale * gc;
+    slot.col(4 * k + 3) = scale * gd;
   }
-  gather_.add(slot_, f);
+  gather_.add(slot, f);
   return kSqrt3 * p_.kappa_b * en;
 }
 

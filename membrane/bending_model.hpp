@@ -33,7 +33,6 @@ class BendingModel {
   std::vector<Hinge> hinges_;
   std::vector<double> theta0_;
   NodeGather gather_;
-  mutable Eigen::Matrix3Xd slot_;
 };
 
 }  // namespace dld::membrane

@@ -39,6 +39,8 @@ double CellSet::compute_forces(Points& f) const {
   f.setZero(3, x_.cols());
   double e = 0.0;
   const int n = nodes_per_cell();
+  // Cells in parallel; each writes only its own columns of f.
+#pragma omp parallel for reduction(+ : e) schedule(dynamic) if (cells_ > 1)
   for (int k = 0; k < cells_; ++k)
     e += mechanics_.add_forces(cell_positions(k), f.middleCols(k * n, n));
   if (contact_) e += contact_->add_forces(x_, n, f);

@@ -40,12 +40,14 @@ Contact::Contact(const DldCell& box_lu, const ContactParams& p)
                                  p.range, box_lu.lambda, box_lu.depth));
 }
 
-void Contact::build_images(const Points& x) const {
+void Contact::build_images(const Points& x, int nodes_per_cell) const {
   const int n = static_cast<int>(x.cols());
   const double L = box_.lambda, rc = p_.range;
   wrapped_.resize(n);
   image_pos_.clear();
   image_node_.clear();
+  image_pos_.reserve(2 * n);
+  image_node_.reserve(2 * n);
   double zmin = 1e300, zmax = -1e300;
   auto add_y = [&](Eigen::Vector3d q, int i) {
     image_pos_.push_back(q);
@@ -89,16 +91,19 @@ void Contact::build_images(const Points& x) const {
     bin_start_[bin_of[k] + 1]++;
   }
   for (int b = 0; b < nb; ++b) bin_start_[b + 1] += bin_start_[b];
-  bin_items_.resize(m);
+  sorted_.resize(m);
   std::vector<int> fill(bin_start_.begin(), bin_start_.end() - 1);
-  for (int k = 0; k < m; ++k) bin_items_[fill[bin_of[k]]++] = k;
+  for (int k = 0; k < m; ++k) {
+    const Eigen::Vector3d& q = image_pos_[k];
+    sorted_[fill[bin_of[k]]++] = {q.x(), q.y(), q.z(), image_node_[k] / nodes_per_cell};
+  }
 }
 
 double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
   const int n = static_cast<int>(x.cols());
   const double rc = p_.range, rc2 = rc * rc;
   const bool pairs = p_.cells && n > nodes_per_cell;
-  if (pairs || p_.walls || p_.pillar) build_images(x);
+  if (pairs || p_.walls || p_.pillar) build_images(x, nodes_per_cell);
   double energy = 0.0;
   long pair_count = 0;
 #pragma omp parallel for reduction(+ : energy, pair_count) schedule(static) if (n > 1024)
@@ -130,22 +135,22 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
       const int bx = std::clamp(static_cast<int>((q.x() + rc) / bin_), 0, nbx_ - 1);
       const int by = std::clamp(static_cast<int>((q.y() + rc) / bin_), 0, nby_ - 1);
       const int bz = std::clamp(static_cast<int>((q.z() - z0_) / bin_), 0, nbz_ - 1);
+      const int x_lo = std::max(0, bx - 1), x_hi = std::min(nbx_ - 1, bx + 1);
       for (int z = std::max(0, bz - 1); z <= std::min(nbz_ - 1, bz + 1); ++z)
-        for (int y = std::max(0, by - 1); y <= std::min(nby_ - 1, by + 1); ++y)
-          for (int xb = std::max(0, bx - 1); xb <= std::min(nbx_ - 1, bx + 1); ++xb) {
-            const int b = (z * nby_ + y) * nbx_ + xb;
-            for (int s = bin_start_[b]; s < bin_start_[b + 1]; ++s) {
-              const int k = bin_items_[s];
-              if (image_node_[k] / nodes_per_cell == cell) continue;
-              const Eigen::Vector3d d = q - image_pos_[k];
-              const double r2 = d.squaredNorm();
-              if (r2 >= rc2) continue;
-              const double r = std::sqrt(r2);
-              energy += 0.5 * law_.energy(r);  // each pair is seen from both sides
-              ++pair_count;
-              fi += law_.force(r) * d / std::max(r, 1e-12 * rc);
-            }
+        for (int y = std::max(0, by - 1); y <= std::min(nby_ - 1, by + 1); ++y) {
+          const int row = (z * nby_ + y) * nbx_;
+          for (int s = bin_start_[row + x_lo]; s < bin_start_[row + x_hi + 1]; ++s) {
+            const Image& im = sorted_[s];
+            if (im.cell == cell) continue;
+            const Eigen::Vector3d d(q.x() - im.x, q.y() - im.y, q.z() - im.z);
+            const double r2 = d.squaredNorm();
+            if (r2 >= rc2) continue;
+            const double r = std::sqrt(r2);
+            energy += 0.5 * law_.energy(r);  // each pair is seen from both sides
+            ++pair_count;
+            fi += law_.force(r) * d / std::max(r, 1e-12 * rc);
           }
+        }
     }
     if (f) f->col(i) += fi;
   }

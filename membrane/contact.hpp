@@ -46,7 +46,7 @@ class Contact {
 
  private:
   double evaluate(const Points& x, int nodes_per_cell, Points* f) const;
-  void build_images(const Points& x) const;
+  void build_images(const Points& x, int nodes_per_cell) const;
 
   DldCell box_;
   ContactParams p_;
@@ -55,7 +55,12 @@ class Contact {
   mutable std::vector<Eigen::Vector3d> wrapped_;  // real node positions folded into the box
   mutable std::vector<Eigen::Vector3d> image_pos_;
   mutable std::vector<int> image_node_;
-  mutable std::vector<int> bin_start_, bin_items_;
+  struct Image {
+    double x, y, z;
+    int cell;
+  };
+  mutable std::vector<Image> sorted_;  // images in bin order, so a row of bins is one range
+  mutable std::vector<int> bin_start_;
   mutable int nbx_ = 0, nby_ = 0, nbz_ = 0;
   mutable double z0_ = 0.0, bin_ = 1.0;
   mutable long pairs_ = 0;

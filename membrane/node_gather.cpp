@@ -14,7 +14,7 @@ NodeGather::NodeGather(const std::vector<int>& corners, int node_count)
 
 void NodeGather::add(const Eigen::Matrix3Xd& slot_forces, Eigen::Ref<Eigen::Matrix3Xd> f) const {
   const int n = static_cast<int>(start_.size()) - 1;
-#pragma omp parallel for schedule(static) if (n > 1024)
+#pragma omp parallel for schedule(static) if (n > 8192)
   for (int i = 0; i < n; ++i) {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (int s = start_[i]; s < start_[i + 1]; ++s) sum += slot_forces.col(slots_[s]);

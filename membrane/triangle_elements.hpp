@@ -43,7 +43,7 @@ class TriangleElements {
   double energy(const Eigen::Ref<const Points>& x) const {
     double e = 0.0;
     const int n = static_cast<int>(tri_.size());
-#pragma omp parallel for reduction(+ : e) schedule(static) if (n > 1024)
+#pragma omp parallel for reduction(+ : e) schedule(static) if (n > 8192)
     for (int k = 0; k < n; ++k) {
       double i1, i2;
       Eigen::Matrix2d c;
@@ -56,9 +56,13 @@ class TriangleElements {
   /// Adds -dE/dx to f, returns E.
   double add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const {
     const int n = static_cast<int>(tri_.size());
-    slot_.resize(3, 3 * n);
+    // Scratch per calling thread (cells may be evaluated concurrently); the reference makes the
+    // caller's buffer shared by the threads of the loop below.
+    static thread_local Eigen::Matrix3Xd scratch;
+    scratch.resize(3, 3 * n);
+    Eigen::Matrix3Xd& slot = scratch;
     double e = 0.0;
-#pragma omp parallel for reduction(+ : e) schedule(static) if (n > 1024)
+#pragma omp parallel for reduction(+ : e) schedule(static) if (n > 8192)
     for (int k = 0; k < n; ++k) {
       const TriangleReference& t = tri_[k];
       double i1, i2;
@@ -76,11 +80,11 @@ class TriangleElements {
       const Eigen::Vector3d e2 = x.col(t.nodes[2]) - x.col(t.nodes[0]);
       const Eigen::Vector3d f1 = -2.0 * t.area0 * (g(0, 0) * e1 + g(0, 1) * e2);
       const Eigen::Vector3d f2 = -2.0 * t.area0 * (g(0, 1) * e1 + g(1, 1) * e2);
-      slot_.col(3 * k) = -(f1 + f2);
-      slot_.col(3 * k + 1) = f1;
-      slot_.col(3 * k + 2) = f2;
+      slot.col(3 * k) = -(f1 + f2);
+      slot.col(3 * k + 1) = f1;
+      slot.col(3 * k + 2) = f2;
     }
-    gather_.add(slot_, f);
+    gather_.add(slot, f);
     return e;
   }
 
@@ -99,7 +103,6 @@ class TriangleElements {
   Law law_;
   std::vector<TriangleReference> tri_;
   NodeGather gather_;
-  mutable Eigen::Matrix3Xd slot_;  // scratch; a model instance is used by one caller at a time
 };
 
 }  // namespace dld::membrane

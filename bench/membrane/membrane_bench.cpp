@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Force evaluation per cell (2000 faces, r = 3.9 um at dx = 0.4 um) for each model, and contact
-// search for 17 cells in the DLD box, with 1 and 2 OpenMP threads (argument = threads).
+// search for 17 cells in the DLD box (cells:0 = walls and pillar only), with 1 and 2 OpenMP
+// threads.
 // Run from the build directory: bench/membrane/membrane_bench (meshes cached in cache/meshes).
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
@@ -8,6 +9,7 @@
 
 #include <random>
 
+#include "membrane/cell_set.hpp"
 #include "membrane/contact.hpp"
 #include "membrane/mesh_cache.hpp"
 #include "membrane/model_registry.hpp"
@@ -81,10 +83,30 @@ Points suspension(int cells) {
   return x;
 }
 
+/// Membrane forces (Skalak + bending + volume) of 17 cells through CellSet, which spreads the
+/// cells over the threads.
+void BM_SuspensionForces(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  const TriMesh& m = cell();
+  std::vector<AnyModel> models;
+  models.emplace_back(SkalakModel(m, {1e-4, 0.5}));
+  models.emplace_back(BendingModel(m, {1e-5}));
+  models.emplace_back(VolumePenalty(m, {1e-2}));
+  CellSet cells(m, MembraneMechanics({"skalak", "bending", "volume"}, std::move(models)));
+  const Points x = suspension(17);
+  for (int k = 0; k < 17; ++k)
+    cells.add_cell(Points(x.middleCols(k * m.node_count(), m.node_count())));
+  Points f;
+  for (auto _ : state) benchmark::DoNotOptimize(cells.compute_forces(f));
+  state.SetLabel("17 cells x (skalak + bending + volume)");
+}
+BENCHMARK(BM_SuspensionForces)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMicrosecond);
+
 void BM_ContactSearch(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
   const DldCell box{80.0, 25.0, 12.0, 11.0};
-  const Contact contact(box, ContactParams{1.0, 1e-4, true, true, true});
+  const bool cells = state.range(1) != 0;
+  const Contact contact(box, ContactParams{1.0, 1e-4, true, true, cells});
   const Points x = suspension(17);
   Points f = Points::Zero(3, x.cols());
   for (auto _ : state) {
@@ -94,7 +116,10 @@ void BM_ContactSearch(benchmark::State& state) {
   state.SetLabel(
       fmt::format("17 cells, {} nodes, {} pairs in range", x.cols(), contact.last_pair_count()));
 }
-BENCHMARK(BM_ContactSearch)->Arg(1)->Arg(2)->ArgName("threads")->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ContactSearch)
+    ->ArgsProduct({{1, 2}, {1, 0}})
+    ->ArgNames({"threads", "cells"})
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace dld::membrane
