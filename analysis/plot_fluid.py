@@ -5,7 +5,10 @@ gap flux profile with the separation band. Reads only the HDF5 run file."""
 import argparse
 import sys
 
-import h5py
+import os
+
+os.environ.setdefault("HDF5_USE_FILE_LOCKING", "FALSE")  # read a run file while it is written
+import h5py  # noqa: E402
 import matplotlib
 
 matplotlib.use("Agg")
