@@ -23,8 +23,8 @@ std::string slurp(const std::string& path) {
 std::set<std::string> parsed_keys() {
   std::set<std::string> keys;
   const std::regex getter(
-      R"re((?:\.|->)(?:number|positive|in_range|integer|string|choice|boolean|numbers|has|section|optional_section|sections|fail)\(\s*"([a-z_0-9]+)")re");
-  const std::regex other(R"re((?:strings\(scene, m, |keys\{|, )"([a-z_0-9]+)")re");
+      R"re((?:\.|->)(?:number|positive|in_range|integer|string|choice|boolean|numbers|has|section|optional_section|sections|fail)\(\s*"([A-Za-z_0-9]+)")re");
+  const std::regex other(R"re((?:strings\(scene, m, |keys\{|, )"([A-Za-z_0-9]+)")re");
   for (const char* file : {"membrane/membrane_scene.cpp", "membrane/model_registry.cpp"}) {
     const std::string text = slurp(std::string(DLD_SOURCE_DIR) + "/" + file);
     for (const std::regex* re : {&getter, &other})
@@ -40,9 +40,9 @@ std::set<std::string> parsed_keys() {
 std::set<std::string> documented_keys() {
   const std::string text = slurp(std::string(DLD_SOURCE_DIR) + "/docs/membrane-scene-keys.md");
   std::set<std::string> keys;
-  const std::regex row(R"(\n\| `([a-z_0-9]+)` \|)");
+  const std::regex row(R"(\n\| `([A-Za-z_0-9]+)` \|)");
   const std::regex heading(R"(\n##+ \[\[?(?:membrane\.|cells\.)?([a-z_]+)\])");
-  const std::regex sentence(R"(Exactly one of `([a-z_0-9]+)` .*? and `([a-z_0-9]+)`)");
+  const std::regex sentence(R"(Exactly one of `([A-Za-z_0-9]+)` .*? and `([A-Za-z_0-9]+)`)");
   for (auto it = std::sregex_iterator(text.begin(), text.end(), row); it != std::sregex_iterator();
        ++it)
     keys.insert((*it)[1]);
