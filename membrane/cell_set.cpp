@@ -61,6 +61,13 @@ void CellSet::move(const Points& velocity, double dt) {
   x_ += dt * velocity;
 }
 
+void CellSet::move(std::span<const double> velocity, double dt) {
+  if (velocity.size() != static_cast<std::size_t>(x_.size()))
+    throw InputError(fmt::format("velocity array has {} values, the cells need {} (3 per node)",
+                                 velocity.size(), x_.size()));
+  x_ += dt * Eigen::Map<const Points>(velocity.data(), 3, x_.cols());
+}
+
 Eigen::Vector3d CellSet::centroid(int k) const {
   return cell_positions(k).rowwise().mean();
 }

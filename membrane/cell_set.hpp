@@ -5,6 +5,7 @@
 //   positions() -> X,  compute_forces(F),  move(U, dt): X += U dt.
 #pragma once
 #include <optional>
+#include <span>
 
 #include "membrane/contact.hpp"
 #include "membrane/mesh.hpp"
@@ -42,6 +43,13 @@ class CellSet {
   double energy() const;
   /// X += U dt (no-slip: nodes move with the interpolated fluid velocity).
   void move(const Points& velocity, double dt);
+  /// The same with U as node-major x, y, z doubles (the coupler's frame layout).
+  void move(std::span<const double> velocity, double dt);
+  /// Positions as node-major x, y, z doubles, cells in order (the coupler's frame layout; a view
+  /// valid until cells are added).
+  std::span<const double> flat_positions() const {
+    return {x_.data(), static_cast<std::size_t>(x_.size())};
+  }
 
   Eigen::Vector3d centroid(int k) const;
   double volume(int k) const;
