@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 
 #include "membrane/mesh_cache.hpp"
 
@@ -74,9 +75,21 @@ MembraneScene read_membrane_scene(const Scene& scene) {
   out.kappa_s_lu = units.modulus_lu(out.kappa_s_N_per_m);
   out.radius_lu = out.shape_um.radius / dx;
 
-  EvansFungShape shape_lu = out.shape_um;
-  shape_lu.radius = out.radius_lu;
-  out.reference_lu = evans_fung_mesh(shape_lu, out.mesh_faces, out.mesh_cache);
+  if (m.has("mesh_file")) {
+    // A user mesh (OFF, lengths in um) replaces the Evans-Fung one; it must pass the same checks.
+    if (m.has("mesh_faces") || m.has("shape_coefficients"))
+      m.fail("mesh_file", "give either mesh_file or mesh_faces/shape_coefficients, not both");
+    std::filesystem::path file(m.string("mesh_file"));
+    if (file.is_relative()) file = std::filesystem::path(scene.file).parent_path() / file;
+    out.reference_lu = read_off(file.string());
+    validate_closed_surface(out.reference_lu, file.string());
+    out.reference_lu.nodes /= dx;
+    out.mesh_faces = out.reference_lu.face_count();
+  } else {
+    EvansFungShape shape_lu = out.shape_um;
+    shape_lu.radius = out.radius_lu;
+    out.reference_lu = evans_fung_mesh(shape_lu, out.mesh_faces, out.mesh_cache);
+  }
   out.reference_lu.nodes.colwise() -= centroid(out.reference_lu.nodes);
 
   // kappa_alpha etc. given "in lattice units of the dx = 0.4 um lattice" (SPEC section 4) are

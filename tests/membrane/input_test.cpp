@@ -167,5 +167,27 @@ TEST(SceneKeys, ErrorsNameFileLineAndKey) {
   EXPECT_NE(e.find("inside the pillar"), std::string::npos) << e;
 }
 
+TEST(SceneKeys, UserMeshFileIsChecked) {
+  std::string base = kGood;
+  base.replace(base.find("mesh_faces = 300\n"), 17, "mesh_file = \"user_mesh_test.off\"\n");
+  TriMesh m = test::octahedron();
+  write_off(m, "user_mesh_test.off");
+  EXPECT_EQ(scene_error(base), "");
+  for (Face& t : m.faces) std::swap(t[1], t[2]);
+  write_off(m, "user_mesh_test.off");
+  const std::string e = scene_error(base);
+  EXPECT_NE(e.find("user_mesh_test.off: the enclosed volume is not positive"), std::string::npos)
+      << e;
+  m.faces.pop_back();
+  write_off(m, "user_mesh_test.off");
+  EXPECT_NE(scene_error(base).find("open"), std::string::npos) << scene_error(base);
+  std::filesystem::remove("user_mesh_test.off");
+  EXPECT_NE(scene_error(base).find("cannot open mesh file"), std::string::npos)
+      << scene_error(base);
+  std::string both = kGood;
+  both.replace(both.find("mesh_faces = 300\n"), 17, "mesh_faces = 300\nmesh_file = \"x.off\"\n");
+  EXPECT_NE(scene_error(both).find("not both"), std::string::npos) << scene_error(both);
+}
+
 }  // namespace
 }  // namespace dld::membrane
