@@ -52,25 +52,25 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
 #pragma omp parallel for reduction(+ : en) schedule(static) if (n > 8192)
   for (int k = 0; k < n; ++k) {
     const Hinge& h = hinges_[k];
-    const Eigen::Vector3d a = x.col(h.a), b = x.col(h.b), c = x.col(h.c), d = x.col(h.d);
-    const Eigen::Vector3d e = b - a;
-    const Eigen::Vector3d n1 = e.cross(c - a), n2 = (d - a).cross(e);
-    const double le = e.norm();
-    const double theta = std::atan2(n1.cross(n2).dot(e) / le, n1.dot(n2));
+    const Eigen::Vector3d a = x.col(h.a);
+    const Eigen::Vector3d e = x.col(h.b) - a, ca = x.col(h.c) - a, da = x.col(h.d) - a;
+    const Eigen::Vector3d n1 = e.cross(ca), n2 = da.cross(e);
+    const double le2 = e.squaredNorm();
+    const double le = std::sqrt(le2), inv_le = 1.0 / le;
+    // atan2 is scale-free: (n1 x n2).e / |e| against n1.n2, both multiplied by |e|.
+    const double theta = std::atan2(n1.cross(n2).dot(e), n1.dot(n2) * le);
     const double dt = theta - theta0_[k];
     en += dt * dt;
     // Gradient of theta (Bridson et al. 2003): wing nodes along their face normals, edge nodes
-    // such that the four gradients sum to zero and carry no torque.
-    const Eigen::Vector3d u1 = n1 / n1.squaredNorm(), u2 = n2 / n2.squaredNorm();
-    const Eigen::Vector3d gc = -le * u1;
-    const Eigen::Vector3d gd = -le * u2;
-    const Eigen::Vector3d ga = -((c - b).dot(e) / le * u1 + (d - b).dot(e) / le * u2);
-    const Eigen::Vector3d gb = ((c - a).dot(e) / le * u1 + (d - a).dot(e) / le * u2);
+    // such that the four gradients sum to zero and carry no torque. (c - b).e = (c - a).e - |e|^2.
     const double scale = -2.0 * kSqrt3 * p_.kappa_b * dt;  // force = -dE/dtheta * grad theta
-    slot.col(4 * k) = scale * ga;
-    slot.col(4 * k + 1) = scale * gb;
-    slot.col(4 * k + 2) = scale * gc;
-    slot.col(4 * k + 3) = scale * gd;
+    const Eigen::Vector3d u1 = (scale / n1.squaredNorm()) * n1,
+                          u2 = (scale / n2.squaredNorm()) * n2;
+    const double pc = ca.dot(e) * inv_le, pd = da.dot(e) * inv_le;
+    slot.col(4 * k) = -((pc - le) * u1 + (pd - le) * u2);
+    slot.col(4 * k + 1) = pc * u1 + pd * u2;
+    slot.col(4 * k + 2) = -le * u1;
+    slot.col(4 * k + 3) = -le * u2;
   }
   gather_.add(slot, f);
   return kSqrt3 * p_.kappa_b * en;
