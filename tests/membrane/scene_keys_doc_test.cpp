@@ -62,10 +62,10 @@ TEST(SceneKeyReference, EveryParsedKeyIsDocumented) {
   ASSERT_GT(doc.size(), 25u);  // the extraction itself works
   ASSERT_TRUE(doc.count("forces_pN") && doc.count("area_modulus_ref_lu") && doc.count("cell"));
   // Table names read as sections but documented as headings.
-  for (const std::string& k : parsed_keys())
-    if (k != "membrane")
-      EXPECT_TRUE(doc.count(k)) << "key '" << k
-                                << "' is read but not in docs/membrane-scene-keys.md";
+  for (const std::string& k : parsed_keys()) {
+    if (k == "membrane") continue;
+    EXPECT_TRUE(doc.count(k)) << "key '" << k << "' is read but not in docs/membrane-scene-keys.md";
+  }
 }
 
 TEST(SceneKeyReference, EveryDocumentedKeyIsParsed) {
@@ -75,9 +75,10 @@ TEST(SceneKeyReference, EveryDocumentedKeyIsParsed) {
               parsed.count("cell"));
   // Model tables are looked up by the model's name, not by a literal.
   const std::set<std::string> by_name{"skalak", "neo_hookean", "bending", "volume", "area"};
-  for (const std::string& k : documented_keys())
-    if (!by_name.count(k))
-      EXPECT_TRUE(parsed.count(k)) << "documented key '" << k << "' is not read by the parser";
+  for (const std::string& k : documented_keys()) {
+    if (by_name.count(k)) continue;
+    EXPECT_TRUE(parsed.count(k)) << "documented key '" << k << "' is not read by the parser";
+  }
 }
 
 }  // namespace
