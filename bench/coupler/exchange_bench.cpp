@@ -3,7 +3,7 @@
 // 1002 nodes, the fluid (a thread that does no physics) answers with velocities. Both sides are
 // threads of this program; ipc and tcp still go through the kernel as between two processes.
 // Run: coupler_bench --benchmark_min_time=1 --benchmark_repetitions=5
-//        --benchmark_report_aggregates_only=true   (figures in docs/coupler-performance.md)
+//        --benchmark_report_aggregates_only=true   (figures in docs/performance.md (Coupler))
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
