@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "membrane/coupled_main.hpp"
 #include "membrane/membrane_scene.hpp"
 #include "membrane/mesh_quality.hpp"
 #include "shared/h5file.hpp"
@@ -92,7 +93,15 @@ int main(int argc, char** argv) {
   CLI::App app{"dld-membrane: red-blood-cell membranes (meshes, models, contact; standalone runs)"};
   std::string scene_path, output;
   bool verbose = false;
+  dld::membrane::CoupledArgs coupled;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
+  app.add_option("--connect", coupled.endpoint, "coupled mode: the fluid's endpoint (dld-fluid --serve)");
+  app.add_option("--peer", coupled.peer, "this process's index among the membrane processes")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--peers", coupled.peers, "membrane processes in the run")->check(CLI::Range(1, 64));
+  app.add_option("--steps", coupled.steps, "coupled mode: steps to run")->check(CLI::PositiveNumber);
+  app.add_option("--sample-every", coupled.sample_every, "coupled mode: steps between samples")
+      ->check(CLI::PositiveNumber);
   app.add_option("-o,--output", output,
                  "HDF5 output of standalone runs (default: the scene's output.file)");
   app.add_flag("-v,--verbose", verbose, "debug logging");
@@ -104,6 +113,12 @@ int main(int argc, char** argv) {
     scene.document->reject_unknown({"coupling"});
     spdlog::info("{}", m.describe(scene));
     spdlog::info("mesh: {}", describe(mesh_quality(m.reference_lu)));
+    if (!coupled.endpoint.empty()) {
+      if (coupled.peer >= coupled.peers)
+        throw dld::InputError(fmt::format("--peer {}: expected below --peers {}", coupled.peer, coupled.peers));
+      coupled.output = output;
+      return run_coupled(scene, m, coupled);
+    }
     if (m.stretch) {
       run_stretch(scene, m, output.empty() ? scene.output.file : output);
     } else if (m.relax) {

@@ -53,8 +53,9 @@ int main(int argc, char** argv) {
   std::int64_t steps = 1000;
   bool dry = false;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
-  app.add_option("--membrane", membrane, "membrane program: tracers (dld-tracers)")
-      ->check(CLI::IsMember({"tracers"}));
+  app.add_option("--membrane", membrane,
+                 "membrane program: cells (dld-membrane, the scene's [[cells.cell]]) or tracers (dld-tracers)")
+      ->check(CLI::IsMember({"cells", "tracers"}));
   app.add_option("--tracers", tracers, "tracer particles per membrane process")->check(CLI::Range(1, 1000000));
   app.add_option("--steps", steps, "steps to run")->check(CLI::PositiveNumber);
   app.add_flag("--dry-run", dry, "validate the scene and print the commands, start nothing");
@@ -73,15 +74,26 @@ int main(int argc, char** argv) {
     const std::string endpoint = "ipc://" + (sock_dir / "fluid").string();
     const std::string stem = (run_dir / out.stem()).string();
 
+    const bool with_cells = membrane == "cells";
+    int cells = tracers * peers;
+    if (with_cells) {
+      const auto* list = scene.document->root().at_path("cells.cell").as_array();
+      cells = list ? static_cast<int>(list->size()) : 0;
+      if (cells < peers)
+        throw dld::InputError(fmt::format("{}: {} [[cells.cell]] for {} membrane processes", scene_path, cells, peers));
+    }
     std::vector<std::vector<std::string>> commands;
     commands.push_back({program("dld-fluid", DLD_FLUID_EXE), scene_path, "--serve", endpoint, "--peers",
-                        std::to_string(peers), "--cells", std::to_string(tracers * peers), "-o",
-                        stem + "-fluid.h5"});
-    for (int k = 0; k < peers; ++k)
-      commands.push_back({program("dld-tracers", DLD_TRACERS_EXE), scene_path, "--connect", endpoint,
-                          "--peer", std::to_string(k), "--peers", std::to_string(peers), "--count",
-                          std::to_string(tracers), "--steps", std::to_string(steps), "-o",
-                          fmt::format("{}-tracers-{}.h5", stem, k)});
+                        std::to_string(peers), "--cells", std::to_string(cells), "-o", stem + "-fluid.h5"});
+    for (int k = 0; k < peers; ++k) {
+      std::vector<std::string> c{with_cells ? program("dld-membrane", DLD_MEMBRANE_EXE)
+                                            : program("dld-tracers", DLD_TRACERS_EXE),
+                                 scene_path, "--connect", endpoint, "--peer", std::to_string(k), "--peers",
+                                 std::to_string(peers), "--steps", std::to_string(steps), "-o",
+                                 fmt::format("{}-{}-{}.h5", stem, membrane, k)};
+      if (!with_cells) c.insert(c.end(), {"--count", std::to_string(tracers)});
+      commands.push_back(c);
+    }
     for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
     if (dry) return 0;
 
@@ -89,8 +101,8 @@ int main(int argc, char** argv) {
     std::vector<dld::coupler::Child> children;
     children.push_back(dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log"));
     for (int k = 0; k < peers; ++k)
-      children.push_back(dld::coupler::start_child(fmt::format("dld-tracers-{}", k), commands[k + 1],
-                                                   fmt::format("{}-tracers-{}.log", stem, k)));
+      children.push_back(dld::coupler::start_child(fmt::format("{}-{}", membrane, k), commands[k + 1],
+                                                   fmt::format("{}-{}-{}.log", stem, membrane, k)));
     const auto start = std::chrono::steady_clock::now();
     int failed = 0;
     bool interrupted_sent = false;
