@@ -5,12 +5,12 @@
 // Markers are in lattice units; the fluid folds them into its box through the shifted faces.
 #include "fluid/coupled_main.hpp"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 #include <csignal>
 #include <vector>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
@@ -26,7 +26,9 @@ namespace {
 // Ctrl-C (or dld-run passing one on) ends the run after the current step: the fluid tells every
 // membrane program to stop at the same step, so their files end together.
 volatile sig_atomic_t g_stop = 0;
-void on_sigint(int) { g_stop = 1; }
+void on_sigint(int) {
+  g_stop = 1;
+}
 }  // namespace
 
 int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
@@ -37,7 +39,8 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
   coupler::FluidConfig fc;
   fc.scene = coupler::scene_identity(scene, static_cast<std::uint32_t>(opt.cells));
   fc.endpoints = coupler::peer_endpoints(opt.endpoint, static_cast<std::size_t>(opt.peers));
-  fc.options.timeout = std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
+  fc.options.timeout =
+      std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
   coupler::FluidSide side(fc);
 
   std::unique_ptr<FluidRunFile> out;
@@ -60,18 +63,21 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       side.send_velocities(velocity);
       ++steps;
       if (steps % scene.run.log_every == 0) {
-        const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double secs =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         const auto u = solver.mean_velocity();
         if (out) out->sample(solver, gap_profile(solver, scene.cell_lu()).flux);
-        spdlog::info("step {:>8}  <u_x> {:.5g} m/s  {:.1f} steps/s", solver.steps(), units.velocity_m_s(u[0]),
-                     steps / secs);
+        spdlog::info("step {:>8}  <u_x> {:.5g} m/s  {:.1f} steps/s", solver.steps(),
+                     units.velocity_m_s(u[0]), steps / secs);
         if (!std::isfinite(u[0]))
-          throw std::runtime_error(fmt::format("fluid diverged (NaN mean velocity) at step {}", solver.steps()));
+          throw std::runtime_error(
+              fmt::format("fluid diverged (NaN mean velocity) at step {}", solver.steps()));
       }
     }
     if (out && scene.output.fields) out->snapshot(solver);
     side.finalize();
-    spdlog::info("{} after {} steps", g_stop ? "interrupted: run ended" : "membranes ended the run", steps);
+    spdlog::info("{} after {} steps", g_stop ? "interrupted: run ended" : "membranes ended the run",
+                 steps);
     return 0;
   } catch (const coupler::CouplerError& e) {
     spdlog::error("{}", e.what());

@@ -11,11 +11,9 @@ struct D3Q19 {
   static constexpr double cs2 = 1.0 / 3.0;  ///< lattice speed of sound squared
   // Rest, 6 axis neighbours, 12 edge neighbours; opposite pairs are adjacent (i, i+1) for i >= 1.
   static constexpr std::array<std::array<int, 3>, q> c{{
-      {0, 0, 0},
-      {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
-      {1, 1, 0}, {-1, -1, 0}, {1, -1, 0}, {-1, 1, 0},
-      {1, 0, 1}, {-1, 0, -1}, {1, 0, -1}, {-1, 0, 1},
-      {0, 1, 1}, {0, -1, -1}, {0, 1, -1}, {0, -1, 1},
+      {0, 0, 0},  {1, 0, 0},   {-1, 0, 0},  {0, 1, 0},  {0, -1, 0}, {0, 0, 1},   {0, 0, -1},
+      {1, 1, 0},  {-1, -1, 0}, {1, -1, 0},  {-1, 1, 0}, {1, 0, 1},  {-1, 0, -1}, {1, 0, -1},
+      {-1, 0, 1}, {0, 1, 1},   {0, -1, -1}, {0, 1, -1}, {0, -1, 1},
   }};
   // Weight by speed |c|^2 = 0, 1, 2: 1/3, 1/18, 1/36.
   static constexpr std::array<double, q> w = [] {

@@ -17,8 +17,8 @@ struct Pillar {
 
 struct Domain {
   int nx = 0, ny = 0, nz = 0;
-  double shift = 0.0;       ///< lattice units, any real value in [0, ny)
-  bool walls_z = true;      ///< no-slip walls at z = 0 and z = nz; false: periodic z
+  double shift = 0.0;   ///< lattice units, any real value in [0, ny)
+  bool walls_z = true;  ///< no-slip walls at z = 0 and z = nz; false: periodic z
   /// Tangential velocities of the walls at z = 0 and z = nz (lattice units): moving-wall
   /// bounce-back, e.g. for simple shear. Zero for the DLD device.
   std::array<double, 3> wall_velocity_low{0, 0, 0};

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/fluid_output.hpp"
 
+#include <fmt/format.h>
+
 #include <filesystem>
 #include <fstream>
-
-#include <fmt/format.h>
 
 namespace dld::fluid {
 namespace {
@@ -40,13 +40,13 @@ FluidRunFile::FluidRunFile(const Scene& scene, const std::string& path)
 
 void FluidRunFile::sample(const FluidSolver& solver, double gap_flux_m3_s) {
   const auto u = solver.mean_velocity();
-  file_.append_row("/timeseries",
-                   {static_cast<double>(solver.steps()), units_.time_s(solver.steps()),
-                    units_.velocity_m_s(u[0]), units_.velocity_m_s(u[1]), units_.velocity_m_s(u[2]),
-                    solver.total_mass(), gap_flux_m3_s,
-                    units_.force_density_n_m3(solver.force_y())},
-                   {"step", "time_s", "mean_ux_m_s", "mean_uy_m_s", "mean_uz_m_s", "mass_lu",
-                    "gap_flux_m3_s", "force_y_Pa_per_m"});
+  file_.append_row(
+      "/timeseries",
+      {static_cast<double>(solver.steps()), units_.time_s(solver.steps()),
+       units_.velocity_m_s(u[0]), units_.velocity_m_s(u[1]), units_.velocity_m_s(u[2]),
+       solver.total_mass(), gap_flux_m3_s, units_.force_density_n_m3(solver.force_y())},
+      {"step", "time_s", "mean_ux_m_s", "mean_uy_m_s", "mean_uz_m_s", "mass_lu", "gap_flux_m3_s",
+       "force_y_Pa_per_m"});
   file_.flush();
 }
 
@@ -111,24 +111,29 @@ void FluidRunFile::write_xdmf() const {
       const std::string g = fmt::format("/fields/step_{:09d}", step);
       x << fmt::format("<Grid Name=\"step {}\" GridType=\"Uniform\">\n", step)
         << fmt::format("<Time Value=\"{}\"/>\n", units_.time_s(step))
-        << fmt::format("<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz, ny, nx)
+        << fmt::format("<Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"{} {} {}\"/>\n", nz,
+                       ny, nx)
         << "<Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
         << fmt::format("<DataItem Dimensions=\"3\" Format=\"XML\">{} {} {}</DataItem>\n", 0.5 * dx,
                        0.5 * dx, 0.5 * dx)
-        << fmt::format("<DataItem Dimensions=\"3\" Format=\"XML\">{} {} {}</DataItem>\n", dx, dx, dx)
+        << fmt::format("<DataItem Dimensions=\"3\" Format=\"XML\">{} {} {}</DataItem>\n", dx, dx,
+                       dx)
         << "</Geometry>\n"
         << "<Attribute Name=\"velocity_m_s\" AttributeType=\"Vector\" Center=\"Node\">\n"
-        << fmt::format("<DataItem Dimensions=\"{} {} {} 3\" NumberType=\"Float\" Precision=\"8\" "
-                       "Format=\"HDF\">{}:{}/velocity_m_s</DataItem>\n</Attribute>\n",
-                       nz, ny, nx, h5, g)
+        << fmt::format(
+               "<DataItem Dimensions=\"{} {} {} 3\" NumberType=\"Float\" Precision=\"8\" "
+               "Format=\"HDF\">{}:{}/velocity_m_s</DataItem>\n</Attribute>\n",
+               nz, ny, nx, h5, g)
         << "<Attribute Name=\"density_kg_m3\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-        << fmt::format("<DataItem Dimensions=\"{} {} {}\" NumberType=\"Float\" Precision=\"8\" "
-                       "Format=\"HDF\">{}:{}/density_kg_m3</DataItem>\n</Attribute>\n",
-                       nz, ny, nx, h5, g)
+        << fmt::format(
+               "<DataItem Dimensions=\"{} {} {}\" NumberType=\"Float\" Precision=\"8\" "
+               "Format=\"HDF\">{}:{}/density_kg_m3</DataItem>\n</Attribute>\n",
+               nz, ny, nx, h5, g)
         << "<Attribute Name=\"solid\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-        << fmt::format("<DataItem Dimensions=\"{} {} {}\" NumberType=\"Int\" Precision=\"4\" "
-                       "Format=\"HDF\">{}:/fields/solid</DataItem>\n</Attribute>\n",
-                       nz, ny, nx, h5)
+        << fmt::format(
+               "<DataItem Dimensions=\"{} {} {}\" NumberType=\"Int\" Precision=\"4\" "
+               "Format=\"HDF\">{}:/fields/solid</DataItem>\n</Attribute>\n",
+               nz, ny, nx, h5)
         << "</Grid>\n";
     }
     x << "</Grid>\n</Domain>\n</Xdmf>\n";

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/fluid_run.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 #include <cmath>
 #include <memory>
-
-#include <spdlog/spdlog.h>
 
 #include "fluid/fluid_output.hpp"
 #include "fluid/fluid_solver.hpp"
@@ -46,9 +46,10 @@ FluidRunSummary run_fluid(const Scene& scene, const FluidRunOptions& opt) {
     const double mlups = static_cast<double>(s) * solver.lattice().fluid_nodes() / secs / 1e6;
     if (opt.progress) {
       const double eta = secs / static_cast<double>(s) * static_cast<double>(max_steps - s);
-      spdlog::info("step {:>8}/{}  <u_x> {:.5g} m/s  <u_y>/<u_x> {:+.2e}  change {:.2e}  {:.1f} MLUPS  "
-                   "ETA {:.0f} s (or earlier if steady)",
-                   s, max_steps, units.velocity_m_s(u[0]), u[1] / u[0], change, mlups, eta);
+      spdlog::info(
+          "step {:>8}/{}  <u_x> {:.5g} m/s  <u_y>/<u_x> {:+.2e}  change {:.2e}  {:.1f} MLUPS  "
+          "ETA {:.0f} s (or earlier if steady)",
+          s, max_steps, units.velocity_m_s(u[0]), u[1] / u[0], change, mlups, eta);
     }
     if (!std::isfinite(u[0]))
       throw std::runtime_error(fmt::format("fluid diverged (NaN mean velocity) at step {}", s));
@@ -58,7 +59,8 @@ FluidRunSummary run_fluid(const Scene& scene, const FluidRunOptions& opt) {
       break;
     }
   }
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double secs =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto u = solver.mean_velocity();
   const GapProfile profile = gap_profile(solver, cell);
   const double eps = scene.cell_um.shift / scene.cell_um.lambda;

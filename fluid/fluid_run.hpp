@@ -13,16 +13,16 @@ struct FluidRunOptions {
   std::int64_t max_steps = -1;  ///< overrides scene.run.max_steps when >= 0
   std::string output;           ///< overrides scene.output.file when not empty
   bool write_file = true;
-  bool progress = true;         ///< progress lines on the log
+  bool progress = true;  ///< progress lines on the log
 };
 
 struct FluidRunSummary {
   std::int64_t steps = 0;
   bool steady = false;
   double mean_ux_m_s = 0, mean_uy_m_s = 0;
-  double reynolds = 0;              ///< mean u_x G / nu
+  double reynolds = 0;  ///< mean u_x G / nu
   double gap_flux_m3_s = 0;
-  double separation_um = 0;         ///< band next to the pillar carrying eps = d/lambda of the gap flux
+  double separation_um = 0;  ///< band next to the pillar carrying eps = d/lambda of the gap flux
   double relative_mass_change = 0;  ///< |M(end) - M(0)| / M(0)
   double mlups = 0;                 ///< fluid-node updates per second (millions)
   std::string output;

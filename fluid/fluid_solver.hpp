@@ -24,7 +24,7 @@ struct FluidConfig {
   double force_x = 0.0;       ///< uniform body force density along x
   double force_y = 0.0;       ///< initial y force (adjusted if lateral_control)
   bool lateral_control = false;
-  double rho0 = 1.0;          ///< initial density
+  double rho0 = 1.0;  ///< initial density
 };
 
 /// The fluid configuration a scene asks for (the DLD unit cell).

@@ -11,7 +11,9 @@ namespace dld::fluid {
 enum class IbKernel { kPeskin2 = 2, kPeskin3 = 3, kPeskin4 = 4 };
 
 /// Half-width of the kernel's support: phi(r) = 0 for r >= half_width.
-inline double half_width(IbKernel k) { return 0.5 * static_cast<int>(k); }
+inline double half_width(IbKernel k) {
+  return 0.5 * static_cast<int>(k);
+}
 
 inline double phi(IbKernel k, double x) {
   const double r = std::abs(x);

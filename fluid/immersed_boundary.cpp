@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/immersed_boundary.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -22,7 +22,9 @@ ImmersedBoundary::ImmersedBoundary(const Lattice& lattice, IbKernel kernel)
     : lattice_(lattice), kernel_(kernel) {}
 
 namespace {
-int floor_div(int a, int n) { return a >= 0 ? a / n : -((-a + n - 1) / n); }
+int floor_div(int a, int n) {
+  return a >= 0 ? a / n : -((-a + n - 1) / n);
+}
 }  // namespace
 
 bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
@@ -37,8 +39,10 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
   s.count = 0;
   double total = 0;
   // Weights per axis once per marker (the kernel is a product); z is the same for every column.
-  const int i0 = static_cast<int>(std::ceil(X - 0.5 - h)), i1 = static_cast<int>(std::floor(X - 0.5 + h));
-  const int k0 = static_cast<int>(std::ceil(Z - 0.5 - h)), k1 = static_cast<int>(std::floor(Z - 0.5 + h));
+  const int i0 = static_cast<int>(std::ceil(X - 0.5 - h)),
+            i1 = static_cast<int>(std::floor(X - 0.5 + h));
+  const int k0 = static_cast<int>(std::ceil(Z - 0.5 - h)),
+            k1 = static_cast<int>(std::floor(Z - 0.5 + h));
   int kz[4], nzk = 0;
   double wz[4];
   for (int k = k0; k <= k1 && nzk < 4; ++k) {

@@ -8,8 +8,8 @@ namespace dld::fluid {
 LateralController::LateralController(double depth_lu, double nu_lu) {
   mobility_ = depth_lu * depth_lu / (12.0 * nu_lu);
   const double response_steps = depth_lu * depth_lu / (M_PI * M_PI * nu_lu);
-  // Integral time of about one and a half response times keeps the loop well damped; the proportional part
-  // cancels most of an error within one response time.
+  // Integral time of about one and a half response times keeps the loop well damped; the
+  // proportional part cancels most of an error within one response time.
   gain_i_ = 1.0 / (1.5 * response_steps);
   gain_p_ = 0.5;
 }

@@ -30,7 +30,8 @@ Lattice::Lattice(Domain domain) : domain_(std::move(domain)) {
         for (int i : {-1, 0, nx() - 1, nx()})
           if (solid(i, j, k))
             throw std::invalid_argument(
-                "a pillar touches the shifted x boundary: the shift must be a whole number of nodes");
+                "a pillar touches the shifted x boundary: the shift must be a whole number of "
+                "nodes");
   }
 
   for (int k = 0; k < nz(); ++k)
@@ -64,9 +65,10 @@ Lattice::Lattice(Domain domain) : domain_(std::move(domain)) {
             continue;
           }
           // The link from f towards the wall runs along c_opp(q) = -c_q.
-          const double t = domain_.pillar_link_fraction(i + 0.5, j + 0.5, -D3Q19::c[q][0],
-                                                        -D3Q19::c[q][1]);
-          const std::size_t behind = f + offsets_[q];  // f - c_opp(q), the next node away from the wall
+          const double t =
+              domain_.pillar_link_fraction(i + 0.5, j + 0.5, -D3Q19::c[q][0], -D3Q19::c[q][1]);
+          const std::size_t behind =
+              f + offsets_[q];  // f - c_opp(q), the next node away from the wall
           if (t < 0.5 && !solid_[behind]) {
             curved_links_.push_back({target, first,
                                      static_cast<std::uint32_t>(D3Q19::opp[q] * padded_ + behind),

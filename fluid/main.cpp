@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 // dld-fluid: runs a fluid-only scene (no membrane process) and reports the streamline separation
 // distance of the DLD cell.
+#include <fmt/format.h>
 #include <omp.h>
+#include <spdlog/spdlog.h>
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "fluid/coupled_main.hpp"
 #include "fluid/fluid_run.hpp"
@@ -23,13 +23,17 @@ int main(int argc, char** argv) {
   bool check_only = false;
   dld::fluid::CoupledOptions coupled;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
-  app.add_option("--steps", steps, "step limit (overrides run.max_steps)")->check(CLI::PositiveNumber);
-  app.add_option("--threads", threads, "OpenMP threads (overrides run.threads)")->check(CLI::Range(1, 1024));
+  app.add_option("--steps", steps, "step limit (overrides run.max_steps)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--threads", threads, "OpenMP threads (overrides run.threads)")
+      ->check(CLI::Range(1, 1024));
   app.add_option("-o,--output", output, "run file (overrides output.file)");
   app.add_flag("--check", check_only, "validate the scene, print it resolved, and exit");
-  app.add_option("--serve", coupled.endpoint,
-                 "coupled mode: serve membrane programs at this endpoint (ipc://path, tcp://host:port)");
-  app.add_option("--peers", coupled.peers, "membrane processes to serve (coupled mode)")->check(CLI::Range(1, 64));
+  app.add_option(
+      "--serve", coupled.endpoint,
+      "coupled mode: serve membrane programs at this endpoint (ipc://path, tcp://host:port)");
+  app.add_option("--peers", coupled.peers, "membrane processes to serve (coupled mode)")
+      ->check(CLI::Range(1, 64));
   app.add_option("--cells", coupled.cells, "total cells of the membrane processes (coupled mode)")
       ->check(CLI::Range(0, 100000));
   CLI11_PARSE(app, argc, argv);
@@ -50,12 +54,16 @@ int main(int argc, char** argv) {
     opt.max_steps = steps;
     opt.output = output;
     const auto r = dld::fluid::run_fluid(scene, opt);
-    fmt::print("steps {}{}\n", r.steps, r.steady ? " (steady)" : " (step limit reached, not steady)");
-    fmt::print("mean velocity u_x = {:.6g} m/s, u_y = {:.3g} m/s, Re = U G / nu = {:.4g}\n", r.mean_ux_m_s,
-               r.mean_uy_m_s, r.reynolds);
-    fmt::print("gap flux Q = {:.6g} m^3/s (= {:.6g} um^3/s)\n", r.gap_flux_m3_s, r.gap_flux_m3_s * 1e18);
-    fmt::print("separation distance s = {:.4f} um (band carrying eps = d/lambda = {:.5f} of the gap flux)\n",
-               r.separation_um, scene.cell_um.shift / scene.cell_um.lambda);
+    fmt::print("steps {}{}\n", r.steps,
+               r.steady ? " (steady)" : " (step limit reached, not steady)");
+    fmt::print("mean velocity u_x = {:.6g} m/s, u_y = {:.3g} m/s, Re = U G / nu = {:.4g}\n",
+               r.mean_ux_m_s, r.mean_uy_m_s, r.reynolds);
+    fmt::print("gap flux Q = {:.6g} m^3/s (= {:.6g} um^3/s)\n", r.gap_flux_m3_s,
+               r.gap_flux_m3_s * 1e18);
+    fmt::print(
+        "separation distance s = {:.4f} um (band carrying eps = d/lambda = {:.5f} of the gap "
+        "flux)\n",
+        r.separation_um, scene.cell_um.shift / scene.cell_um.lambda);
     fmt::print("relative mass change {:.2e}; {:.1f} MLUPS\n", r.relative_mass_change, r.mlups);
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);

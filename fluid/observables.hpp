@@ -13,10 +13,10 @@ namespace dld::fluid {
 /// Depth-integrated u_x across the gap between the pillar and its neighbour above (+y), on the
 /// plane x = pillar centre (the narrowest cross-section).
 struct GapProfile {
-  double width = 0;        ///< gap width G
-  std::vector<double> y;   ///< node positions measured from the lower pillar surface, in (0, G)
-  std::vector<double> q;   ///< integral of u_x over z at those positions
-  double flux = 0;         ///< integral of q over the gap (q taken linear, zero on both surfaces)
+  double width = 0;       ///< gap width G
+  std::vector<double> y;  ///< node positions measured from the lower pillar surface, in (0, G)
+  std::vector<double> q;  ///< integral of u_x over z at those positions
+  double flux = 0;        ///< integral of q over the gap (q taken linear, zero on both surfaces)
 };
 
 GapProfile gap_profile(const FluidSolver& solver, const DldCell& cell_lu);

@@ -14,7 +14,9 @@ std::vector<int> directions_with(int axis, int sign) {
   return out;
 }
 
-int wrap(int j, int n) { return ((j % n) + n) % n; }
+int wrap(int j, int n) {
+  return ((j % n) + n) % n;
+}
 
 }  // namespace
 

@@ -23,11 +23,11 @@ struct FlowSums {
 };
 
 struct KernelParams {
-  double tau = 1.0;          ///< relaxation time where no tau field is given
-  double magic = 3.0 / 16.0; ///< TRT Lambda
-  double force[3] = {0, 0, 0};       ///< uniform body force density (lattice units)
+  double tau = 1.0;             ///< relaxation time where no tau field is given
+  double magic = 3.0 / 16.0;    ///< TRT Lambda
+  double force[3] = {0, 0, 0};  ///< uniform body force density (lattice units)
   const double* force_field[3] = {nullptr, nullptr, nullptr};  ///< per node, added to `force`
-  const double* tau_field = nullptr;                         ///< per node relaxation time
+  const double* tau_field = nullptr;                           ///< per node relaxation time
 };
 
 /// Values allocated past the end of a population array so masked lanes can read safely.
@@ -43,8 +43,9 @@ inline constexpr double kC = static_cast<double>(D3Q19::c[I][A]);
 /// summed, so a run's tail costs one masked block instead of a scalar loop.
 template <typename Collision, bool kForceField, bool kTauField, int kW, bool kMasked>
 inline void update_block(const double* __restrict src, double* __restrict dst, std::size_t n,
-                         const std::ptrdiff_t* off, std::size_t node, int count, const KernelParams& p,
-                         double op_uniform, double om_uniform, FlowSums& acc) {
+                         const std::ptrdiff_t* off, std::size_t node, int count,
+                         const KernelParams& p, double op_uniform, double om_uniform,
+                         FlowSums& acc) {
   // Per-direction base pointers make every access unit-stride in the lane index (no gathers).
   const double* in[D3Q19::q];
   double* out[D3Q19::q];
@@ -62,7 +63,8 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
     double f[D3Q19::q];
     [&]<int... I>(std::integer_sequence<int, I...>) {
       ((f[I] = in[I][l]), ...);
-    }(std::make_integer_sequence<int, D3Q19::q>{});
+    }
+    (std::make_integer_sequence<int, D3Q19::q>{});
     double fx = p.force[0], fy = p.force[1], fz = p.force[2];
     if constexpr (kForceField) {
       fx += force_x[l];
@@ -81,7 +83,8 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
       ((jx += kC<I, 0> * f[I]), ...);
       ((jy += kC<I, 1> * f[I]), ...);
       ((jz += kC<I, 2> * f[I]), ...);
-    }(std::make_integer_sequence<int, D3Q19::q>{});
+    }
+    (std::make_integer_sequence<int, D3Q19::q>{});
     const double inv = 1.0 / rho;
     const double ux = (jx + 0.5 * fx) * inv, uy = (jy + 0.5 * fy) * inv, uz = (jz + 0.5 * fz) * inv;
     const double uu = ux * ux + uy * uy + uz * uz;
@@ -89,7 +92,9 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
     const double kp = 1.0 - 0.5 * op, km = 1.0 - 0.5 * om;
     // Same algebra as collide() in collision.hpp, with the directions unrolled.
     const bool live = !kMasked || l < count;
-    if (live) out[0][l] = f[0] - op * (f[0] - D3Q19::w[0] * rho * (1.0 - 1.5 * uu)) + kp * D3Q19::w[0] * (-3.0 * uf);
+    if (live)
+      out[0][l] = f[0] - op * (f[0] - D3Q19::w[0] * rho * (1.0 - 1.5 * uu)) +
+                  kp * D3Q19::w[0] * (-3.0 * uf);
     auto pair = [&]<int I>(std::integer_sequence<int, I>) {
       constexpr double w = D3Q19::w[I];
       const double cu = kC<I, 0> * ux + kC<I, 1> * uy + kC<I, 2> * uz;
@@ -107,7 +112,8 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
     };
     [&]<int... K>(std::integer_sequence<int, K...>) {
       (pair(std::integer_sequence<int, 2 * K + 1>{}), ...);
-    }(std::make_integer_sequence<int, (D3Q19::q - 1) / 2>{});
+    }
+    (std::make_integer_sequence<int, (D3Q19::q - 1) / 2>{});
     mass += live ? rho : 0.0;
     mx += live ? jx + 0.5 * fx : 0.0;
     my += live ? jy + 0.5 * fy : 0.0;

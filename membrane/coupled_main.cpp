@@ -6,14 +6,14 @@
 // every `sample_every` steps, written when the run ends or fails.
 #include "membrane/coupled_main.hpp"
 
-#include <csignal>
-#include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <vector>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <vector>
 
 #include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
@@ -25,10 +25,12 @@ namespace dld::membrane {
 namespace {
 
 volatile sig_atomic_t g_stop = 0;
-void on_sigint(int) { g_stop = 1; }
+void on_sigint(int) {
+  g_stop = 1;
+}
 
-void write_samples(const std::string& path, const std::vector<double>& rows, int cells, int first_cell,
-                   double dt_s) {
+void write_samples(const std::string& path, const std::vector<double>& rows, int cells,
+                   int first_cell, double dt_s) {
   std::filesystem::path p(path);
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
   H5File f(path, H5File::Mode::kCreate);
@@ -62,7 +64,8 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
   mc.first_cell = static_cast<std::uint32_t>(first);
   mc.cell_nodes.assign(static_cast<std::size_t>(cells.cell_count()),
                        static_cast<std::uint32_t>(cells.nodes_per_cell()));
-  mc.options.timeout = std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
+  mc.options.timeout =
+      std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
   coupler::MembraneSide side(mc);
 
   const double dx_um = scene.lattice.dx_um;
@@ -82,7 +85,8 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
   try {
     side.initialize();
     signal(SIGINT, on_sigint);
-    spdlog::info("{} cells ({} nodes) of {}, connected", cells.cell_count(), cells.node_count(), total);
+    spdlog::info("{} cells ({} nodes) of {}, connected", cells.cell_count(), cells.node_count(),
+                 total);
     Points force;
     std::vector<double> u(static_cast<std::size_t>(3 * cells.node_count()));
     sample(0);
@@ -97,11 +101,12 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
         for (int k = 0; k < cells.cell_count(); ++k) {
           const double v = cells.volume(k);
           if (!std::isfinite(v) || !cells.centroid(k).allFinite())
-            throw std::runtime_error(fmt::format("cell {} became non-finite at step {}", first + k, s + 1));
+            throw std::runtime_error(
+                fmt::format("cell {} became non-finite at step {}", first + k, s + 1));
           if (std::abs(v / v0[static_cast<std::size_t>(k)] - 1.0) > 0.05)
-            throw std::runtime_error(fmt::format("cell {} volume changed by {:+.1f} % at step {} (unstable)",
-                                                 first + k, 100 * (v / v0[static_cast<std::size_t>(k)] - 1),
-                                                 s + 1));
+            throw std::runtime_error(
+                fmt::format("cell {} volume changed by {:+.1f} % at step {} (unstable)", first + k,
+                            100 * (v / v0[static_cast<std::size_t>(k)] - 1), s + 1));
         }
       }
     }

@@ -8,11 +8,11 @@
 namespace dld::membrane {
 
 struct CoupledArgs {
-  std::string endpoint;        ///< the fluid's base endpoint (dld-fluid --serve)
-  int peer = 0, peers = 1;     ///< this process's index and the number of membrane processes
-  std::int64_t steps = 1000;   ///< steps to run, then end the run
+  std::string endpoint;       ///< the fluid's base endpoint (dld-fluid --serve)
+  int peer = 0, peers = 1;    ///< this process's index and the number of membrane processes
+  std::int64_t steps = 1000;  ///< steps to run, then end the run
   std::int64_t sample_every = 100;
-  std::string output;          ///< cell trajectories (HDF5); "" = none
+  std::string output;  ///< cell trajectories (HDF5); "" = none
 };
 
 /// Runs this process's share of the scene's cells against dld-fluid; returns the exit code.

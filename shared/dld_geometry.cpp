@@ -42,8 +42,8 @@ Wrapped wrap_into_box(const DldCell& cell, std::array<double, 3> p) {
   return w;
 }
 
-std::array<double, 3> device_position(const DldCell& cell, const std::array<double, 3>& box,
-                                      int kx, int ky) {
+std::array<double, 3> device_position(const DldCell& cell, const std::array<double, 3>& box, int kx,
+                                      int ky) {
   return {box[0] + kx * cell.lambda, box[1] + kx * cell.shift + ky * cell.lambda, box[2]};
 }
 

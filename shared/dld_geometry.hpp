@@ -37,7 +37,7 @@ Wrapped wrap_into_box(const DldCell& cell, std::array<double, 3> p);
 
 /// Device coordinates of a box position after (kx, ky) crossings (SPEC section 7):
 /// x + kx lambda, y + kx d + ky lambda.
-std::array<double, 3> device_position(const DldCell& cell, const std::array<double, 3>& box,
-                                      int kx, int ky);
+std::array<double, 3> device_position(const DldCell& cell, const std::array<double, 3>& box, int kx,
+                                      int ky);
 
 }  // namespace dld

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "shared/h5file.hpp"
 
-#include <hdf5.h>
-
 #include <fmt/format.h>
+#include <hdf5.h>
 
 #include "shared/input_error.hpp"
 
@@ -32,20 +31,28 @@ struct Id {  // closes any HDF5 handle with the right function
 H5File::H5File(const std::string& path, Mode mode) : path_(path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported through InputError
   switch (mode) {
-    case Mode::kCreate: id_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT); break;
-    case Mode::kRead: id_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT); break;
-    case Mode::kReadWrite: id_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT); break;
+    case Mode::kCreate:
+      id_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+      break;
+    case Mode::kRead:
+      id_ = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+      break;
+    case Mode::kReadWrite:
+      id_ = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+      break;
   }
   if (id_ < 0)
-    throw InputError(fmt::format("{}: cannot {} HDF5 file", path,
-                                 mode == Mode::kCreate ? "create" : "open"));
+    throw InputError(
+        fmt::format("{}: cannot {} HDF5 file", path, mode == Mode::kCreate ? "create" : "open"));
 }
 
 H5File::~H5File() {
   if (id_ >= 0) H5Fclose(id_);
 }
 
-H5File::H5File(H5File&& o) noexcept : id_(o.id_), path_(std::move(o.path_)) { o.id_ = -1; }
+H5File::H5File(H5File&& o) noexcept : id_(o.id_), path_(std::move(o.path_)) {
+  o.id_ = -1;
+}
 
 H5File& H5File::operator=(H5File&& o) noexcept {
   if (this != &o) {
@@ -95,12 +102,14 @@ void write_any(hid_t file, const std::string& path, const std::string& name, hid
 }
 }  // namespace
 
-void H5File::write(const std::string& name, const double* data, const std::vector<std::uint64_t>& dims) {
+void H5File::write(const std::string& name, const double* data,
+                   const std::vector<std::uint64_t>& dims) {
   make_parents(name);
   write_any(id_, path_, name, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, data, dims);
 }
 
-void H5File::write(const std::string& name, const float* data, const std::vector<std::uint64_t>& dims) {
+void H5File::write(const std::string& name, const float* data,
+                   const std::vector<std::uint64_t>& dims) {
   make_parents(name);
   write_any(id_, path_, name, H5T_NATIVE_FLOAT, H5T_IEEE_F32LE, data, dims);
 }
@@ -138,7 +147,8 @@ void H5File::attribute(const std::string& object, const std::string& name, std::
   write_attr(obj.id, path_, name, H5T_NATIVE_INT64, &value);
 }
 
-void H5File::attribute(const std::string& object, const std::string& name, const std::string& value) {
+void H5File::attribute(const std::string& object, const std::string& name,
+                       const std::string& value) {
   if (object != "/") make_parents(object + "/x");
   Id obj{open_object(id_, path_, object), H5Oclose};
   Id type{H5Tcopy(H5T_C_S1), H5Tclose};
@@ -175,7 +185,8 @@ void H5File::append_row(const std::string& name, const std::vector<double>& row,
   hsize_t cur[2];
   H5Sget_simple_extent_dims(fspace0.id, cur, nullptr);
   if (cur[1] != width)
-    throw InputError(fmt::format("{}: table {} has {} columns, row has {}", path_, name, cur[1], width));
+    throw InputError(
+        fmt::format("{}: table {} has {} columns, row has {}", path_, name, cur[1], width));
   hsize_t next[2] = {cur[0] + 1, width};
   check(H5Dset_extent(set.id, next), path_, "extending " + name);
   Id fspace{H5Dget_space(set.id), H5Sclose};
@@ -187,7 +198,9 @@ void H5File::append_row(const std::string& name, const std::vector<double>& row,
         "appending to " + name);
 }
 
-void H5File::flush() { H5Fflush(id_, H5F_SCOPE_GLOBAL); }
+void H5File::flush() {
+  H5Fflush(id_, H5F_SCOPE_GLOBAL);
+}
 
 std::vector<double> H5File::read(const std::string& name, std::vector<std::uint64_t>* dims) const {
   if (!exists(name)) throw InputError(fmt::format("{}: no dataset '{}'", path_, name));
@@ -216,7 +229,8 @@ double H5File::read_attribute_number(const std::string& object, const std::strin
   return v;
 }
 
-std::string H5File::read_attribute_string(const std::string& object, const std::string& name) const {
+std::string H5File::read_attribute_string(const std::string& object,
+                                          const std::string& name) const {
   Id obj{open_object(id_, path_, object), H5Oclose};
   if (H5Aexists(obj.id, name.c_str()) <= 0)
     throw InputError(fmt::format("{}: {} has no attribute '{}'", path_, object, name));

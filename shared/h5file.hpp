@@ -27,7 +27,8 @@ class H5File {
     write(name, data.data(), {data.size()});
   }
   void write(const std::string& name, const float* data, const std::vector<std::uint64_t>& dims);
-  void write(const std::string& name, const std::int32_t* data, const std::vector<std::uint64_t>& dims);
+  void write(const std::string& name, const std::int32_t* data,
+             const std::vector<std::uint64_t>& dims);
   /// Attribute on an object (group or dataset path; "/" is the file).
   void attribute(const std::string& object, const std::string& name, double value);
   void attribute(const std::string& object, const std::string& name, std::int64_t value);
@@ -40,7 +41,8 @@ class H5File {
 
   bool exists(const std::string& name) const;
   /// Reads a dataset of doubles (any float type is converted); dims returned through `dims`.
-  std::vector<double> read(const std::string& name, std::vector<std::uint64_t>* dims = nullptr) const;
+  std::vector<double> read(const std::string& name,
+                           std::vector<std::uint64_t>* dims = nullptr) const;
   double read_attribute_number(const std::string& object, const std::string& name) const;
   std::string read_attribute_string(const std::string& object, const std::string& name) const;
 

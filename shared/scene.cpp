@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "shared/scene.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <fstream>
 #include <sstream>
-
-#include <fmt/format.h>
 
 namespace dld {
 namespace {
@@ -15,9 +15,10 @@ int whole_nodes(const TomlSection& lattice, double length_um, double dx_um, cons
   double n = length_um / dx_um;
   long r = std::lround(n);
   if (r < 1 || std::abs(n - static_cast<double>(r)) > 1e-6 * n)
-    lattice.fail("dx_um", fmt::format("{} / dx = {:.4g} / {:.4g} = {:.4g} must be a whole number of "
-                                      "nodes (choose dx so that lambda/dx and H/dx are integers)",
-                                      what, length_um, dx_um, n));
+    lattice.fail("dx_um",
+                 fmt::format("{} / dx = {:.4g} / {:.4g} = {:.4g} must be a whole number of "
+                             "nodes (choose dx so that lambda/dx and H/dx are integers)",
+                             what, length_um, dx_um, n));
   return static_cast<int>(r);
 }
 
@@ -62,11 +63,13 @@ Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown, std::string_vi
   s.lattice.dx_um = l.positive("dx_um");
   s.lattice.tau = l.number("tau", 1.0);
   if (!(s.lattice.tau > 0.5))
-    l.fail("tau", fmt::format("relaxation time must be > 1/2 (viscosity > 0), got {}", s.lattice.tau));
+    l.fail("tau",
+           fmt::format("relaxation time must be > 1/2 (viscosity > 0), got {}", s.lattice.tau));
   s.lattice.collision = l.choice("collision", {"trt", "bgk"}, "trt") == "bgk" ? CollisionKind::kBgk
                                                                               : CollisionKind::kTrt;
   s.lattice.trt_magic = l.positive("trt_magic", 3.0 / 16.0);
-  s.lattice.curved_walls = l.choice("wall_rule", {"bounce_back", "bouzidi"}, "bounce_back") == "bouzidi";
+  s.lattice.curved_walls =
+      l.choice("wall_rule", {"bounce_back", "bouzidi"}, "bounce_back") == "bouzidi";
   whole_nodes(l, s.cell_um.lambda, s.lattice.dx_um, "pillar spacing lambda");
   int nz = whole_nodes(l, s.cell_um.depth, s.lattice.dx_um, "depth H");
   if (nz < 2) l.fail("dx_um", "the depth must span at least 2 nodes");
@@ -81,8 +84,8 @@ Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown, std::string_vi
     s.fluid.viscosity_ratio = f->positive("viscosity_ratio", 1.0);
     double tau_in = 0.5 + s.fluid.viscosity_ratio * (s.lattice.tau - 0.5);
     if (tau_in > 20.0)
-      f->fail("viscosity_ratio", fmt::format("inner relaxation time {} is too large to be accurate",
-                                             tau_in));
+      f->fail("viscosity_ratio",
+              fmt::format("inner relaxation time {} is too large to be accurate", tau_in));
   }
 
   TomlSection d = root.section("drive");
@@ -97,7 +100,8 @@ Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown, std::string_vi
   const double gap = s.cell_um.gap() * 1e-6;
   if (has_re) {
     double re = d.positive("reynolds");
-    if (re > 10.0) d.fail("reynolds", fmt::format("expected Re <= 10 (Stokes-like flow), got {}", re));
+    if (re > 10.0)
+      d.fail("reynolds", fmt::format("expected Re <= 10 (Stokes-like flow), got {}", re));
     s.drive.reynolds = re;
     double u = re * nu / gap;
     s.drive.pressure_gradient_Pa_per_m = 12.0 * mu * u / (h * h);
@@ -154,36 +158,47 @@ LatticeUnits Scene::units() const {
                       fluid.density_kg_m3);
 }
 
-int Scene::nx() const { return static_cast<int>(std::lround(cell_um.lambda / lattice.dx_um)); }
-int Scene::ny() const { return nx(); }
-int Scene::nz() const { return static_cast<int>(std::lround(cell_um.depth / lattice.dx_um)); }
+int Scene::nx() const {
+  return static_cast<int>(std::lround(cell_um.lambda / lattice.dx_um));
+}
+int Scene::ny() const {
+  return nx();
+}
+int Scene::nz() const {
+  return static_cast<int>(std::lround(cell_um.depth / lattice.dx_um));
+}
 
-double Scene::force_x_lu() const { return units().force_density_lu(drive.pressure_gradient_Pa_per_m); }
+double Scene::force_x_lu() const {
+  return units().force_density_lu(drive.pressure_gradient_Pa_per_m);
+}
 
 std::string Scene::describe() const {
   LatticeUnits u = units();
   DldCell c = cell_lu();
   std::string out;
   out += fmt::format("scene '{}' ({})\n", name, file);
-  out += fmt::format("  geometry: lambda {} um, R {} um, G {} um, H {} um, d {} um (eps = d/lambda = {:.5g})\n",
-                     cell_um.lambda, cell_um.radius, cell_um.gap(), cell_um.depth, cell_um.shift,
-                     cell_um.shift / cell_um.lambda);
+  out += fmt::format(
+      "  geometry: lambda {} um, R {} um, G {} um, H {} um, d {} um (eps = d/lambda = {:.5g})\n",
+      cell_um.lambda, cell_um.radius, cell_um.gap(), cell_um.depth, cell_um.shift,
+      cell_um.shift / cell_um.lambda);
   out += fmt::format("  fluid: rho {} kg/m^3, mu {} Pa s, nu {:.4g} m^2/s, viscosity ratio {}\n",
                      fluid.density_kg_m3, fluid.viscosity_Pa_s,
                      fluid.viscosity_Pa_s / fluid.density_kg_m3, fluid.viscosity_ratio);
-  out += fmt::format("  drive: p' = {:.6g} Pa/m{}\n", drive.pressure_gradient_Pa_per_m,
-                     drive.reynolds ? fmt::format(" (from target Re = {} by the plane-Poiseuille estimate)",
-                                                  *drive.reynolds)
-                                    : std::string());
-  out += fmt::format("  lattice: dx {} um, dt {:.6g} s, tau {} ({}{}), nu_lu {:.6g}\n", lattice.dx_um,
-                     u.dt_s(), lattice.tau, lattice.collision == CollisionKind::kTrt ? "TRT" : "BGK",
-                     lattice.collision == CollisionKind::kTrt
-                         ? fmt::format(", Lambda {:.6g}", lattice.trt_magic)
-                         : std::string(),
-                     u.nu_lu());
-  out += fmt::format("  lattice box: {} x {} x {} nodes, R {:.4g}, G {:.4g}, d {:.4g} nodes; pillar wall: {}\n",
-                     nx(), ny(), nz(), c.radius, c.gap(), c.shift,
-                     lattice.curved_walls ? "Bouzidi interpolated bounce-back" : "half-way bounce-back");
+  out += fmt::format(
+      "  drive: p' = {:.6g} Pa/m{}\n", drive.pressure_gradient_Pa_per_m,
+      drive.reynolds
+          ? fmt::format(" (from target Re = {} by the plane-Poiseuille estimate)", *drive.reynolds)
+          : std::string());
+  out += fmt::format(
+      "  lattice: dx {} um, dt {:.6g} s, tau {} ({}{}), nu_lu {:.6g}\n", lattice.dx_um, u.dt_s(),
+      lattice.tau, lattice.collision == CollisionKind::kTrt ? "TRT" : "BGK",
+      lattice.collision == CollisionKind::kTrt ? fmt::format(", Lambda {:.6g}", lattice.trt_magic)
+                                               : std::string(),
+      u.nu_lu());
+  out += fmt::format(
+      "  lattice box: {} x {} x {} nodes, R {:.4g}, G {:.4g}, d {:.4g} nodes; pillar wall: {}\n",
+      nx(), ny(), nz(), c.radius, c.gap(), c.shift,
+      lattice.curved_walls ? "Bouzidi interpolated bounce-back" : "half-way bounce-back");
   out += fmt::format("  lattice body force: f_x {:.6g} (lattice units)", force_x_lu());
   return out;
 }

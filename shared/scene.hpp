@@ -18,11 +18,11 @@ namespace dld {
 enum class CollisionKind { kBgk, kTrt };
 
 struct LatticeParams {
-  double dx_um = 0.4;            ///< lattice spacing [um]
-  double tau = 1.0;              ///< outer relaxation time [-]; nu_lu = (tau - 1/2)/3
+  double dx_um = 0.4;  ///< lattice spacing [um]
+  double tau = 1.0;    ///< outer relaxation time [-]; nu_lu = (tau - 1/2)/3
   CollisionKind collision = CollisionKind::kTrt;
-  double trt_magic = 3.0 / 16.0; ///< TRT Lambda = (tau+ - 1/2)(tau- - 1/2) [-]
-  bool curved_walls = false;     ///< pillar: Bouzidi interpolated bounce-back instead of half-way
+  double trt_magic = 3.0 / 16.0;  ///< TRT Lambda = (tau+ - 1/2)(tau- - 1/2) [-]
+  bool curved_walls = false;      ///< pillar: Bouzidi interpolated bounce-back instead of half-way
 };
 
 struct FluidParams {
@@ -38,21 +38,21 @@ struct DriveParams {
   /// U = p' H^2 / (12 mu), which overestimates U (the pillar slows the flow): the run reports the
   /// Re it actually reached.
   std::optional<double> reynolds;
-  bool lateral_control = true;   ///< adjust a y body force so that the box-mean u_y stays zero
+  bool lateral_control = true;  ///< adjust a y body force so that the box-mean u_y stays zero
 };
 
 struct RunParams {
-  std::int64_t max_steps = 10000;     ///< hard step limit
-  double steady_tolerance = 0.0;      ///< stop when the relative change of mean u_x per
-                                      ///< check (log_every steps) falls below this; 0 = off
-  std::int64_t log_every = 500;       ///< steps between progress lines and time-series samples
-  int threads = 0;                    ///< OpenMP threads; 0 = all cores
+  std::int64_t max_steps = 10000;  ///< hard step limit
+  double steady_tolerance = 0.0;   ///< stop when the relative change of mean u_x per
+                                   ///< check (log_every steps) falls below this; 0 = off
+  std::int64_t log_every = 500;    ///< steps between progress lines and time-series samples
+  int threads = 0;                 ///< OpenMP threads; 0 = all cores
 };
 
 struct OutputParams {
-  std::string file;                   ///< run HDF5 file; "" = runs/<scene name>.h5
-  std::int64_t snapshot_every = 0;    ///< steps between field snapshots; 0 = final one only
-  bool fields = true;                 ///< write velocity/density snapshots at all
+  std::string file;                 ///< run HDF5 file; "" = runs/<scene name>.h5
+  std::int64_t snapshot_every = 0;  ///< steps between field snapshots; 0 = final one only
+  bool fields = true;               ///< write velocity/density snapshots at all
 };
 
 /// How the fluid and the membrane programs are coupled ([coupling] table).
@@ -64,17 +64,17 @@ struct CouplingParams {
 };
 
 struct Scene {
-  std::string file;        ///< the scene file it came from
+  std::string file;  ///< the scene file it came from
   std::string name;
   std::string description;
-  DldCell cell_um;         ///< geometry in um
+  DldCell cell_um;  ///< geometry in um
   LatticeParams lattice;
   FluidParams fluid;
   DriveParams drive;
   RunParams run;
   OutputParams output;
   CouplingParams coupling;
-  std::string hash;        ///< FNV-1a of the file's bytes: both sides of a coupled run must match
+  std::string hash;  ///< FNV-1a of the file's bytes: both sides of a coupled run must match
   std::shared_ptr<TomlDocument> document;  ///< the parsed file, for the other programs' tables
 
   LatticeUnits units() const;

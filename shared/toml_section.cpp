@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "shared/toml_section.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <sstream>
-
-#include <fmt/format.h>
 
 namespace dld {
 namespace {
@@ -30,7 +30,8 @@ std::shared_ptr<TomlDocument> TomlDocument::load(const std::string& path) {
     return doc;
   } catch (const toml::parse_error& e) {
     std::string what(e.description());
-    if (e.source().begin.line == 0) throw InputError(fmt::format("{}: cannot read scene: {}", path, what));
+    if (e.source().begin.line == 0)
+      throw InputError(fmt::format("{}: cannot read scene: {}", path, what));
     throw InputError(fmt::format("{}: {}", location(path, e.source()), what));
   }
 }
@@ -42,7 +43,8 @@ std::shared_ptr<TomlDocument> TomlDocument::parse(std::string_view text, const s
     doc->root_ = toml::parse(text, name);
     return doc;
   } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}: {}", location(name, e.source()), std::string(e.description())));
+    throw InputError(
+        fmt::format("{}: {}", location(name, e.source()), std::string(e.description())));
   }
 }
 
@@ -77,7 +79,8 @@ void TomlDocument::reject_unknown(const std::vector<std::string>& owned_elsewher
                                  location(file_, region), first_unknown));
 }
 
-TomlSection::TomlSection(std::shared_ptr<TomlDocument> doc, const toml::table* table, std::string path)
+TomlSection::TomlSection(std::shared_ptr<TomlDocument> doc, const toml::table* table,
+                         std::string path)
     : doc_(std::move(doc)), table_(table), path_(std::move(path)) {}
 
 TomlSection TomlSection::root(std::shared_ptr<TomlDocument> doc) {
@@ -94,7 +97,9 @@ const toml::node* TomlSection::node(std::string_view key) const {
   return table_->get(key);
 }
 
-bool TomlSection::has(std::string_view key) const { return node(key) != nullptr; }
+bool TomlSection::has(std::string_view key) const {
+  return node(key) != nullptr;
+}
 
 std::string TomlSection::where(std::string_view key) const {
   const toml::node* n = node(key);
@@ -169,7 +174,8 @@ std::string TomlSection::string(std::string_view key, const std::string& fallbac
   return has(key) ? string(key) : fallback;
 }
 
-std::string TomlSection::choice(std::string_view key, const std::vector<std::string>& choices) const {
+std::string TomlSection::choice(std::string_view key,
+                                const std::vector<std::string>& choices) const {
   std::string v = string(key);
   for (const auto& c : choices)
     if (c == v) return v;

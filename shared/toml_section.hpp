@@ -2,6 +2,8 @@
 // Strict reading of TOML tables: required keys, typed values, range checks, and unknown keys
 // reported with file, line and full key name.
 #pragma once
+#include <toml++/toml.h>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -9,8 +11,6 @@
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <toml++/toml.h>
 
 #include "shared/input_error.hpp"
 

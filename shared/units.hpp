@@ -27,13 +27,17 @@ class LatticeUnits {
   double force_density_lu(double n_m3) const { return n_m3 * dt_ * dt_ / (rho_ * dx_); }
   double force_density_n_m3(double lu) const { return lu * rho_ * dx_ / (dt_ * dt_); }
   /// Force [N]: f_lu = f dt^2 / (rho dx^4).
-  double force_lu(double newton) const { return newton * dt_ * dt_ / (rho_ * dx_ * dx_ * dx_ * dx_); }
+  double force_lu(double newton) const {
+    return newton * dt_ * dt_ / (rho_ * dx_ * dx_ * dx_ * dx_);
+  }
   double force_n(double lu) const { return lu * rho_ * dx_ * dx_ * dx_ * dx_ / (dt_ * dt_); }
   /// Surface modulus or tension [N/m]: k_lu = k dt^2 / (rho dx^3).
   double modulus_lu(double n_m) const { return n_m * dt_ * dt_ / (rho_ * dx_ * dx_ * dx_); }
   double modulus_n_m(double lu) const { return lu * rho_ * dx_ * dx_ * dx_ / (dt_ * dt_); }
   /// Energy [J]: e_lu = e dt^2 / (rho dx^5).
-  double energy_lu(double joule) const { return joule * dt_ * dt_ / (rho_ * dx_ * dx_ * dx_ * dx_ * dx_); }
+  double energy_lu(double joule) const {
+    return joule * dt_ * dt_ / (rho_ * dx_ * dx_ * dx_ * dx_ * dx_);
+  }
 
  private:
   double dx_;

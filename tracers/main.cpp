@@ -3,16 +3,16 @@
 // (zero force, X += U dt), speaking the same protocol as dld-membrane to the same dld-fluid:
 // the proof that the membrane side can be swapped. Each tracer is a "cell" of one node.
 // Positions are exchanged in lattice units; trajectories are written in device coordinates (um).
-#include <csignal>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <random>
 #include <vector>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
@@ -27,7 +27,9 @@
 namespace {
 // Ctrl-C (or dld-run passing one on) ends the run cleanly: the fluid gets a shutdown frame.
 volatile sig_atomic_t g_stop = 0;
-void on_sigint(int) { g_stop = 1; }
+void on_sigint(int) {
+  g_stop = 1;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -37,18 +39,21 @@ int main(int argc, char** argv) {
   std::int64_t steps = 1000, sample_every = 100;
   unsigned seed = 1;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
-  app.add_option("--connect", endpoint, "the fluid's base endpoint (as given to dld-fluid --serve)")->required();
+  app.add_option("--connect", endpoint, "the fluid's base endpoint (as given to dld-fluid --serve)")
+      ->required();
   app.add_option("--count", count, "tracers")->check(CLI::Range(1, 1000000));
   app.add_option("--peer", peer, "this program's peer index")->check(CLI::NonNegativeNumber);
   app.add_option("--peers", peers, "membrane programs in the run")->check(CLI::Range(1, 64));
   app.add_option("--steps", steps, "steps to run, then end the run")->check(CLI::PositiveNumber);
-  app.add_option("--sample-every", sample_every, "steps between trajectory samples")->check(CLI::PositiveNumber);
+  app.add_option("--sample-every", sample_every, "steps between trajectory samples")
+      ->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "random seed of the start positions");
   app.add_option("-o,--output", output, "trajectory file (HDF5)");
   CLI11_PARSE(app, argc, argv);
   dld::setup_logging(fmt::format("dld-tracers-{}", peer));
   try {
-    if (peer >= peers) throw dld::InputError(fmt::format("--peer {}: expected below --peers {}", peer, peers));
+    if (peer >= peers)
+      throw dld::InputError(fmt::format("--peer {}: expected below --peers {}", peer, peers));
     const dld::Scene scene = dld::load_scene(scene_path);
     const dld::DldCell cell = scene.cell_lu();
     // Random start positions in the fluid, at least 2 nodes from the pillar and the walls.
@@ -68,7 +73,8 @@ int main(int argc, char** argv) {
     mc.peer_count = static_cast<std::uint32_t>(peers);
     mc.first_cell = static_cast<std::uint32_t>(peer * count);
     mc.cell_nodes.assign(static_cast<std::size_t>(count), 1);
-    mc.options.timeout = std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
+    mc.options.timeout =
+        std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
     dld::coupler::MembraneSide side(mc);
     side.initialize();
     const std::vector<double> force(x.size(), 0.0);
@@ -95,7 +101,8 @@ int main(int argc, char** argv) {
       dld::H5File f(output, dld::H5File::Mode::kCreate);
       const std::uint64_t rows = samples.size() / (1 + x.size());
       f.write("/tracers/samples", samples.data(), {rows, 1 + x.size()});
-      f.attribute("/tracers/samples", "columns", std::string("step, then x y z [um, device frame] per tracer"));
+      f.attribute("/tracers/samples", "columns",
+                  std::string("step, then x y z [um, device frame] per tracer"));
       f.attribute("/tracers", "count", static_cast<std::int64_t>(count));
       f.attribute("/tracers", "dt_s", scene.units().dt_s());
     }

@@ -54,8 +54,8 @@ FluidConfig periodic_box(int n) {
 }
 
 void report(benchmark::State& state, double nodes) {
-  state.counters["MLUPS"] =
-      benchmark::Counter(nodes * static_cast<double>(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
+  state.counters["MLUPS"] = benchmark::Counter(
+      nodes * static_cast<double>(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
 }
 
 void BM_DldCell(benchmark::State& state) {
@@ -100,7 +100,8 @@ std::vector<double> markers_17_cells(const dld::fluid::Lattice& L) {
       continue;
     for (int m = 0; m < 1002; ++m) {  // flat disc-like cloud: radius 9, thickness 5 nodes
       const double phi = 2 * M_PI * u(rng), r = 9 * std::sqrt(u(rng));
-      x.insert(x.end(), {c[0] + r * std::cos(phi), c[1] + r * std::sin(phi), c[2] + 2.5 * (2 * u(rng) - 1)});
+      x.insert(x.end(),
+               {c[0] + r * std::cos(phi), c[1] + r * std::sin(phi), c[2] + 2.5 * (2 * u(rng) - 1)});
     }
     ++cells;
   }
@@ -136,15 +137,21 @@ void BM_MemoryBandwidth(benchmark::State& state) {
   state.counters["GB/s"] = bw;
   state.counters["roofline_MLUPS"] = bw * 1e9 / kBytesPerUpdate / 1e6;
 }
-BENCHMARK(BM_MemoryBandwidth)->Arg(1)->Arg(2)->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MemoryBandwidth)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
 int main(int argc, char** argv) {
   std::printf("bytes moved per node update (two arrays, double, with write-allocate): %.0f\n",
               kBytesPerUpdate);
-  std::printf("fluid state: %.0f bytes per node (two population arrays of 19 doubles + solid flag)\n",
-              kStateBytesPerNode);
+  std::printf(
+      "fluid state: %.0f bytes per node (two population arrays of 19 doubles + solid flag)\n",
+      kStateBytesPerNode);
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -1,20 +1,19 @@
 // SPDX-License-Identifier: MIT
 // dld-run: validates a scene, starts dld-fluid and the membrane program(s) connected over ipc,
 // shows their progress, and stops everything cleanly (Ctrl-C: the fluid is asked to end the run
-// after the current step and tells every membrane program; a child that fails stops the others through the coupler's timeout, and the
-// launcher reports which one failed and how).
+// after the current step and tells every membrane program; a child that fails stops the others
+// through the coupler's timeout, and the launcher reports which one failed and how).
 //
 // Membrane programs take: SCENE --connect ENDPOINT --peer k --peers K [program options].
+#include <fmt/format.h>
 #include <signal.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <thread>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 
 #include "coupler/launcher/process.hpp"
 #include "shared/input_error.hpp"
@@ -23,7 +22,9 @@
 namespace {
 
 volatile sig_atomic_t g_interrupted = 0;
-void on_sigint(int) { g_interrupted = 1; }
+void on_sigint(int) {
+  g_interrupted = 1;
+}
 
 namespace fs = std::filesystem;
 
@@ -32,8 +33,8 @@ std::string program(const std::string& name, const std::string& build_path) {
   const fs::path self = fs::read_symlink("/proc/self/exe").parent_path();
   for (const fs::path& p : {self / name, fs::path(build_path)})
     if (fs::exists(p)) return p.string();
-  throw dld::InputError(fmt::format("cannot find the program {} (looked next to dld-run and at {})", name,
-                                    build_path));
+  throw dld::InputError(fmt::format("cannot find the program {} (looked next to dld-run and at {})",
+                                    name, build_path));
 }
 
 std::string last_line(const std::string& path) {
@@ -54,9 +55,11 @@ int main(int argc, char** argv) {
   bool dry = false;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
   app.add_option("--membrane", membrane,
-                 "membrane program: cells (dld-membrane, the scene's [[cells.cell]]) or tracers (dld-tracers)")
+                 "membrane program: cells (dld-membrane, the scene's [[cells.cell]]) or tracers "
+                 "(dld-tracers)")
       ->check(CLI::IsMember({"cells", "tracers"}));
-  app.add_option("--tracers", tracers, "tracer particles per membrane process")->check(CLI::Range(1, 1000000));
+  app.add_option("--tracers", tracers, "tracer particles per membrane process")
+      ->check(CLI::Range(1, 1000000));
   app.add_option("--steps", steps, "steps to run")->check(CLI::PositiveNumber);
   app.add_flag("--dry-run", dry, "validate the scene and print the commands, start nothing");
   CLI11_PARSE(app, argc, argv);
@@ -80,16 +83,26 @@ int main(int argc, char** argv) {
       const auto* list = scene.document->root().at_path("cells.cell").as_array();
       cells = list ? static_cast<int>(list->size()) : 0;
       if (cells < peers)
-        throw dld::InputError(fmt::format("{}: {} [[cells.cell]] for {} membrane processes", scene_path, cells, peers));
+        throw dld::InputError(fmt::format("{}: {} [[cells.cell]] for {} membrane processes",
+                                          scene_path, cells, peers));
     }
     std::vector<std::vector<std::string>> commands;
-    commands.push_back({program("dld-fluid", DLD_FLUID_EXE), scene_path, "--serve", endpoint, "--peers",
-                        std::to_string(peers), "--cells", std::to_string(cells), "-o", stem + "-fluid.h5"});
+    commands.push_back({program("dld-fluid", DLD_FLUID_EXE), scene_path, "--serve", endpoint,
+                        "--peers", std::to_string(peers), "--cells", std::to_string(cells), "-o",
+                        stem + "-fluid.h5"});
     for (int k = 0; k < peers; ++k) {
       std::vector<std::string> c{with_cells ? program("dld-membrane", DLD_MEMBRANE_EXE)
                                             : program("dld-tracers", DLD_TRACERS_EXE),
-                                 scene_path, "--connect", endpoint, "--peer", std::to_string(k), "--peers",
-                                 std::to_string(peers), "--steps", std::to_string(steps), "-o",
+                                 scene_path,
+                                 "--connect",
+                                 endpoint,
+                                 "--peer",
+                                 std::to_string(k),
+                                 "--peers",
+                                 std::to_string(peers),
+                                 "--steps",
+                                 std::to_string(steps),
+                                 "-o",
                                  fmt::format("{}-{}-{}.h5", stem, membrane, k)};
       if (!with_cells) c.insert(c.end(), {"--count", std::to_string(tracers)});
       commands.push_back(c);
@@ -101,7 +114,8 @@ int main(int argc, char** argv) {
     std::vector<dld::coupler::Child> children;
     children.push_back(dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log"));
     for (int k = 0; k < peers; ++k)
-      children.push_back(dld::coupler::start_child(fmt::format("{}-{}", membrane, k), commands[k + 1],
+      children.push_back(dld::coupler::start_child(fmt::format("{}-{}", membrane, k),
+                                                   commands[k + 1],
                                                    fmt::format("{}-{}-{}.log", stem, membrane, k)));
     const auto start = std::chrono::steady_clock::now();
     int failed = 0;
@@ -111,14 +125,16 @@ int main(int argc, char** argv) {
       bool any_running = false;
       for (auto& c : children) {
         if (dld::coupler::poll_child(c) && c.exit_code != 0) {
-          fmt::print(stderr, "dld-run: {} stopped with exit code {}: {}\n", c.name, c.exit_code, last_line(c.log));
+          fmt::print(stderr, "dld-run: {} stopped with exit code {}: {}\n", c.name, c.exit_code,
+                     last_line(c.log));
           failed = failed ? failed : c.exit_code;
         }
         any_running = any_running || c.running;
       }
       if (!any_running) break;
       if (g_interrupted && !interrupted_sent) {
-        fmt::print(stderr, "dld-run: interrupted; asking the fluid to end the run after this step\n");
+        fmt::print(stderr,
+                   "dld-run: interrupted; asking the fluid to end the run after this step\n");
         dld::coupler::signal_child(children[0], SIGINT);
         interrupted_sent = true;
       }
@@ -126,7 +142,8 @@ int main(int argc, char** argv) {
       // A failed child stops the others through the coupler within the scene's timeout; after
       // that (plus a margin) the launcher ends them itself.
       if (failed && now - start > std::chrono::seconds(1)) {
-        static auto deadline = now + std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000) + 5000);
+        static auto deadline = now + std::chrono::milliseconds(
+                                         static_cast<long>(scene.coupling.timeout_s * 1000) + 5000);
         if (now > deadline)
           for (auto& c : children) dld::coupler::signal_child(c, SIGKILL);
       }
@@ -140,7 +157,8 @@ int main(int argc, char** argv) {
     fs::remove_all(sock_dir);
     if (failed) return failed;
     fmt::print("dld-run: done in {:.1f} s; outputs {}-*.h5, logs {}-*.log\n",
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), stem, stem);
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+               stem, stem);
     return g_interrupted ? 130 : 0;
   } catch (const dld::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());

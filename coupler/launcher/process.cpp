@@ -2,17 +2,17 @@
 #include "coupler/launcher/process.hpp"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
-
-#include <fmt/format.h>
 
 #include "shared/input_error.hpp"
 
 namespace dld::coupler {
 
-Child start_child(const std::string& name, const std::vector<std::string>& argv, const std::string& log) {
+Child start_child(const std::string& name, const std::vector<std::string>& argv,
+                  const std::string& log) {
   Child c{name, log};
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd < 0) throw InputError(fmt::format("{}: cannot create log file", log));

@@ -18,7 +18,8 @@ struct Child {
 
 /// Starts argv[0] with the given arguments; stdout and stderr go to child.log (and, when `echo`
 /// is true, to the launcher's terminal as well through `tee`-like forwarding by the caller).
-Child start_child(const std::string& name, const std::vector<std::string>& argv, const std::string& log);
+Child start_child(const std::string& name, const std::vector<std::string>& argv,
+                  const std::string& log);
 /// Updates running/exit_code without blocking; true if the child ended in this call.
 bool poll_child(Child& c);
 void signal_child(const Child& c, int sig);

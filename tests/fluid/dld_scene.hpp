@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-#include <string>
-
 #include <fmt/format.h>
+
+#include <string>
 
 #include "shared/scene.hpp"
 

@@ -30,7 +30,8 @@ void check_conservation(double tau) {
   const auto r = C::rates(tau, 3.0 / 16.0);
   for (int trial = 0; trial < 50; ++trial) {
     double f[D3Q19::q];
-    for (int i = 0; i < D3Q19::q; ++i) f[i] = D3Q19::w[i] * (1.0 + noise(rng) * 10) + 0.001 * noise(rng);
+    for (int i = 0; i < D3Q19::q; ++i)
+      f[i] = D3Q19::w[i] * (1.0 + noise(rng) * 10) + 0.001 * noise(rng);
     const double F[3] = {noise(rng) * 1e-3, noise(rng) * 1e-3, noise(rng) * 1e-3};
     const Sums before = sums(f);
     collide(f, r.plus, r.minus, F[0], F[1], F[2]);
@@ -55,11 +56,21 @@ void check_equilibrium_fixed_point(double tau) {
   for (int i = 0; i < D3Q19::q; ++i) EXPECT_NEAR(g[i], f[i], 1e-16) << "direction " << i;
 }
 
-TEST(Collision, BgkConservesMassAndMomentum) { check_conservation<Bgk>(0.8); }
-TEST(Collision, TrtConservesMassAndMomentum) { check_conservation<Trt>(1.0); }
-TEST(Collision, TrtWithHighTauConservesMassAndMomentum) { check_conservation<Trt>(3.0); }
-TEST(Collision, BgkEquilibriumIsFixedPoint) { check_equilibrium_fixed_point<Bgk>(0.8); }
-TEST(Collision, TrtEquilibriumIsFixedPoint) { check_equilibrium_fixed_point<Trt>(1.0); }
+TEST(Collision, BgkConservesMassAndMomentum) {
+  check_conservation<Bgk>(0.8);
+}
+TEST(Collision, TrtConservesMassAndMomentum) {
+  check_conservation<Trt>(1.0);
+}
+TEST(Collision, TrtWithHighTauConservesMassAndMomentum) {
+  check_conservation<Trt>(3.0);
+}
+TEST(Collision, BgkEquilibriumIsFixedPoint) {
+  check_equilibrium_fixed_point<Bgk>(0.8);
+}
+TEST(Collision, TrtEquilibriumIsFixedPoint) {
+  check_equilibrium_fixed_point<Trt>(1.0);
+}
 
 TEST(Collision, TrtMagicParameterSetsOddRate) {
   const auto r = Trt::rates(1.0, 3.0 / 16.0);

@@ -63,7 +63,8 @@ TEST(DldCell, ShiftedBoundaryEqualsExplicitColumns) {
           const Moments ma = a.node_moments(i, j, k);
           const Moments mb = b.node_moments(col * n + i, jb, k);
           umax = std::max(umax, std::abs(ma.ux));
-          diff = std::max({diff, std::abs(ma.ux - mb.ux), std::abs(ma.uy - mb.uy), std::abs(ma.uz - mb.uz)});
+          diff = std::max(
+              {diff, std::abs(ma.ux - mb.ux), std::abs(ma.uy - mb.uy), std::abs(ma.uz - mb.uz)});
         }
   EXPECT_GT(umax, 0.0);
   EXPECT_LT(diff / umax, 1e-10) << "max velocity difference " << diff << " of " << umax;

@@ -50,7 +50,8 @@ TEST(ImmersedBoundary, SpreadingConservesTotalForceEverywhere) {
   // walls and the pillar; the solid nodes dropped from a stencil must not lose force.
   const Lattice L(test_domain(3.4));
   std::mt19937 rng(3);
-  std::uniform_real_distribution<double> ux(-30.0, 50.0), uy(-25.0, 45.0), uz(0.3, 9.7), uf(-1.0, 1.0);
+  std::uniform_real_distribution<double> ux(-30.0, 50.0), uy(-25.0, 45.0), uz(0.3, 9.7),
+      uf(-1.0, 1.0);
   std::vector<double> pos, frc;
   while (pos.size() < 3 * 400) {
     const double p[3] = {ux(rng), uy(rng), uz(rng)};

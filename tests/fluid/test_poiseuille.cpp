@@ -45,7 +45,8 @@ Result poiseuille(CollisionKind kind, double tau, int nz, double u_max) {
 TEST(Poiseuille, TrtWithMagicThreeSixteenthsIsExact) {
   for (double tau : {0.8, 1.0, 3.0}) {
     const Result r = poiseuille(CollisionKind::kTrt, tau, 12, 0.01);
-    std::printf("TRT Lambda 3/16, tau %.1f, N 12: max error / u_max = %.2e\n", tau, r.max_rel_error);
+    std::printf("TRT Lambda 3/16, tau %.1f, N 12: max error / u_max = %.2e\n", tau,
+                r.max_rel_error);
     EXPECT_LT(r.max_rel_error, 1e-11) << "tau " << tau;
   }
 }
@@ -57,8 +58,8 @@ TEST(Poiseuille, BgkConvergesAtSecondOrder) {
   for (int nz : n) err.push_back(poiseuille(CollisionKind::kBgk, 0.8, nz, 0.08 / nz).l2_rel_error);
   for (std::size_t i = 0; i + 1 < n.size(); ++i) {
     const double order = std::log(err[i] / err[i + 1]) / std::log(2.0);
-    std::printf("BGK tau 0.8: N %d -> %d: L2 error %.3e -> %.3e, order %.3f\n", n[i], n[i + 1], err[i],
-                err[i + 1], order);
+    std::printf("BGK tau 0.8: N %d -> %d: L2 error %.3e -> %.3e, order %.3f\n", n[i], n[i + 1],
+                err[i], err[i + 1], order);
     EXPECT_GT(order, 1.8) << "between N = " << n[i] << " and " << n[i + 1] << ": errors " << err[i]
                           << ", " << err[i + 1];
     EXPECT_LT(order, 2.2) << "between N = " << n[i] << " and " << n[i + 1];

@@ -23,9 +23,10 @@ void check_convergence(const std::string& wall_rule) {
       opt.progress = false;
       const FluidRunSummary r = run_fluid(scene, opt);
       EXPECT_TRUE(r.steady);
-      std::printf("%s: d = %.1f um, dx = %.2f um: s = %.4f um, Re = %.4f, steps %ld, mass change %.1e\n",
-                  wall_rule.c_str(), d, dx, r.separation_um, r.reynolds, static_cast<long>(r.steps),
-                  r.relative_mass_change);
+      std::printf(
+          "%s: d = %.1f um, dx = %.2f um: s = %.4f um, Re = %.4f, steps %ld, mass change %.1e\n",
+          wall_rule.c_str(), d, dx, r.separation_um, r.reynolds, static_cast<long>(r.steps),
+          r.relative_mass_change);
       std::fflush(stdout);
       s.push_back(r.separation_um);
     }
@@ -33,8 +34,12 @@ void check_convergence(const std::string& wall_rule) {
   }
 }
 
-TEST(SeparationLong, ConvergesWithLatticeSpacingBounceBack) { check_convergence("bounce_back"); }
-TEST(SeparationLong, ConvergesWithLatticeSpacingBouzidi) { check_convergence("bouzidi"); }
+TEST(SeparationLong, ConvergesWithLatticeSpacingBounceBack) {
+  check_convergence("bounce_back");
+}
+TEST(SeparationLong, ConvergesWithLatticeSpacingBouzidi) {
+  check_convergence("bouzidi");
+}
 
 }  // namespace
 }  // namespace dld::fluid

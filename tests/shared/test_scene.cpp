@@ -39,7 +39,8 @@ std::string error_of(const std::string& text) {
   return "";
 }
 
-void expect_error(const std::string& text, const std::string& key, int line, const std::string& what) {
+void expect_error(const std::string& text, const std::string& key, int line,
+                  const std::string& what) {
   const std::string msg = error_of(text);
   ASSERT_FALSE(msg.empty()) << "scene was accepted";
   EXPECT_NE(msg.find("bad.toml:" + std::to_string(line) + ":"), std::string::npos) << msg;
@@ -60,7 +61,8 @@ TEST(Scene, GoodSceneResolvesLatticeValues) {
   EXPECT_EQ(s.output.file, "runs/t.h5");
   // Re = 0.1 through the plane-Poiseuille estimate: U = p' H^2 / (12 mu) = Re nu / G.
   const double nu = s.fluid.viscosity_Pa_s / s.fluid.density_kg_m3;
-  const double u = s.drive.pressure_gradient_Pa_per_m * 4.8e-6 * 4.8e-6 / (12 * s.fluid.viscosity_Pa_s);
+  const double u =
+      s.drive.pressure_gradient_Pa_per_m * 4.8e-6 * 4.8e-6 / (12 * s.fluid.viscosity_Pa_s);
   EXPECT_NEAR(u * 12e-6 / nu, 0.1, 1e-12);
   EXPECT_NE(s.describe().find("80 x 80 x 12 nodes"), std::string::npos);
 }
@@ -71,8 +73,8 @@ TEST(Scene, UnknownKeyIsNamed) {
 }
 
 TEST(Scene, UnknownTableIsNamed) {
-  expect_error(std::string(kGood) + "[fluids]\nviscosity_Pa_s = 1e-3\n", "fluids.viscosity_Pa_s", 14,
-               "unknown key");
+  expect_error(std::string(kGood) + "[fluids]\nviscosity_Pa_s = 1e-3\n", "fluids.viscosity_Pa_s",
+               14, "unknown key");
 }
 
 TEST(Scene, MissingRequiredKeyIsNamed) {
@@ -99,8 +101,8 @@ TEST(Scene, NegativeSizeIsRefused) {
 }
 
 TEST(Scene, NegativeShiftIsRefused) {
-  expect_error(replace(kGood, "row_shift_um = 4.4", "row_shift_um = -1.0"), "geometry.row_shift_um", 8,
-               "0 <= d < lambda");
+  expect_error(replace(kGood, "row_shift_um = 4.4", "row_shift_um = -1.0"), "geometry.row_shift_um",
+               8, "0 <= d < lambda");
 }
 
 TEST(Scene, LatticeSpacingMustFitTheBox) {
@@ -119,8 +121,8 @@ TEST(Scene, TooFastFlowIsRefused) {
 }
 
 TEST(Scene, UnknownCollisionIsRefused) {
-  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ncollision = \"mrt\""), "lattice.collision", 11,
-               "expected one of");
+  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ncollision = \"mrt\""),
+               "lattice.collision", 11, "expected one of");
 }
 
 TEST(Scene, SyntaxErrorGivesLine) {
@@ -139,7 +141,8 @@ TEST(Scene, MissingFileIsNamed) {
 
 TEST(Scene, TablesOfOtherProgramsAreLeftToThem) {
   // [membrane] is read by the membrane program; the fluid reader must not reject it.
-  EXPECT_NO_THROW(dld::parse_scene(std::string(kGood) + "[membrane]\nmodel = \"skalak\"\n", "m.toml"));
+  EXPECT_NO_THROW(
+      dld::parse_scene(std::string(kGood) + "[membrane]\nmodel = \"skalak\"\n", "m.toml"));
 }
 
 }  // namespace

@@ -54,8 +54,10 @@ TEST(SceneKeys, DocumentedKeysAreExactlyTheParsersKeys) {
   std::set<std::string> queried;
   for (const auto& k : s.document->queried())
     if (k.find('.') != std::string::npos) queried.insert(k);
-  for (const auto& k : queried) EXPECT_TRUE(documented.count(k)) << "parser reads undocumented key " << k;
-  for (const auto& k : documented) EXPECT_TRUE(queried.count(k)) << "documented key never read: " << k;
+  for (const auto& k : queried)
+    EXPECT_TRUE(documented.count(k)) << "parser reads undocumented key " << k;
+  for (const auto& k : documented)
+    EXPECT_TRUE(queried.count(k)) << "documented key never read: " << k;
   for (const auto& r : rows)
     if (r.example != "-") EXPECT_TRUE(s.document->was_read(r.key)) << r.key;
 }

@@ -21,7 +21,8 @@ TEST(LatticeUnits, ConversionsRoundTripAndAgreeDimensionally) {
   EXPECT_NEAR(u.modulus_n_m(u.modulus_lu(5.3e-6)), 5.3e-6, 1e-18);
   // A force density times a volume is a force: f_lu * 1 node = F_lu.
   const double f = 7e5;
-  EXPECT_NEAR(u.force_lu(f * std::pow(u.dx_m(), 3)), u.force_density_lu(f), 1e-12 * u.force_density_lu(f));
+  EXPECT_NEAR(u.force_lu(f * std::pow(u.dx_m(), 3)), u.force_density_lu(f),
+              1e-12 * u.force_density_lu(f));
   // A modulus times a length is a force.
   EXPECT_NEAR(u.force_lu(5e-6 * u.dx_m()), u.modulus_lu(5e-6), 1e-12 * u.modulus_lu(5e-6));
 }

@@ -48,7 +48,8 @@ int wait_for(const Process& p, double limit_s) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
   int status = 0;
   while (std::chrono::steady_clock::now() < end) {
-    if (waitpid(p.pid, &status, WNOHANG) == p.pid) return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+    if (waitpid(p.pid, &status, WNOHANG) == p.pid)
+      return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   kill(p.pid, SIGKILL);
@@ -66,8 +67,9 @@ std::string slurp(const std::string& path) {
 class TracersCoupled : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("dld-tracers-" + std::to_string(getpid()) + "-" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() /
+           ("dld-tracers-" + std::to_string(getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -75,9 +77,12 @@ class TracersCoupled : public ::testing::Test {
     const std::string path = (dir_ / ("scene-" + std::to_string(dx) + ".toml")).string();
     std::ofstream(path) << "[scene]\nname = \"tracers\"\n[geometry]\npillar_radius_um = 10.0\n"
                            "pillar_spacing_um = 32.0\ndepth_um = 4.8\nrow_shift_um = 4.4\n"
-                           "[lattice]\ndx_um = " << dx << "\n[drive]\nreynolds = 0.1\n"
+                           "[lattice]\ndx_um = "
+                        << dx
+                        << "\n[drive]\nreynolds = 0.1\n"
                            "[run]\nlog_every = 500\n[output]\nfields = false\n"
-                           "[coupling]\ntimeout_s = " << timeout_s << "\n";
+                           "[coupling]\ntimeout_s = "
+                        << timeout_s << "\n";
     return path;
   }
   std::string endpoint() const { return "ipc://" + (dir_ / "sock").string(); }
@@ -86,10 +91,11 @@ class TracersCoupled : public ::testing::Test {
 
 TEST_F(TracersCoupled, RunCompletesAndTracersFollowTheFlow) {
   const std::string sc = scene(0.8, 30.0), out = (dir_ / "tracers.h5").string();
-  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "6"}, (dir_ / "fluid.log").string());
-  Process tracers = spawn({DLD_TRACERS_EXE, sc, "--connect", endpoint(), "--count", "6", "--steps", "3000",
-                           "-o", out},
-                          (dir_ / "tracers.log").string());
+  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "6"},
+                        (dir_ / "fluid.log").string());
+  Process tracers = spawn(
+      {DLD_TRACERS_EXE, sc, "--connect", endpoint(), "--count", "6", "--steps", "3000", "-o", out},
+      (dir_ / "tracers.log").string());
   EXPECT_EQ(wait_for(tracers, 120), 0) << slurp(tracers.log);
   EXPECT_EQ(wait_for(fluid, 30), 0) << slurp(fluid.log);
   dld::H5File f(out, dld::H5File::Mode::kRead);
@@ -105,7 +111,8 @@ TEST_F(TracersCoupled, RunCompletesAndTracersFollowTheFlow) {
     for (std::uint64_t r = 0; r < dims[0]; ++r) {
       const double* p = &s[r * dims[1] + 1 + 3 * m];
       const auto w = dld::wrap_into_box(cell, {p[0], p[1], p[2]});
-      EXPECT_GT(cell.pillar_distance(w.position[0], w.position[1]), 0.0) << "tracer " << m << " in the pillar";
+      EXPECT_GT(cell.pillar_distance(w.position[0], w.position[1]), 0.0)
+          << "tracer " << m << " in the pillar";
       EXPECT_GT(p[2], 0.0);
       EXPECT_LT(p[2], 4.8);
     }
@@ -114,15 +121,18 @@ TEST_F(TracersCoupled, RunCompletesAndTracersFollowTheFlow) {
 
 TEST_F(TracersCoupled, KilledPeerStopsTheFluidWithinTheTimeout) {
   const std::string sc = scene(0.8, 2.0);
-  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "4"}, (dir_ / "fluid.log").string());
-  Process tracers = spawn({DLD_TRACERS_EXE, sc, "--connect", endpoint(), "--count", "4", "--steps", "100000000"},
-                          (dir_ / "tracers.log").string());
+  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "4"},
+                        (dir_ / "fluid.log").string());
+  Process tracers =
+      spawn({DLD_TRACERS_EXE, sc, "--connect", endpoint(), "--count", "4", "--steps", "100000000"},
+            (dir_ / "tracers.log").string());
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   kill(tracers.pid, SIGKILL);
   wait_for(tracers, 5);
   const auto t0 = std::chrono::steady_clock::now();
   const int rc = wait_for(fluid, 10);
-  const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_NE(rc, 0);
   EXPECT_NE(rc, -1) << "fluid hung";
   EXPECT_LT(waited, 5.0);
@@ -133,9 +143,11 @@ TEST_F(TracersCoupled, KilledPeerStopsTheFluidWithinTheTimeout) {
 
 TEST_F(TracersCoupled, SceneMismatchStopsBothNamingTheField) {
   const std::string a = scene(0.8, 10.0), b = scene(0.4, 10.0);
-  Process fluid = spawn({DLD_FLUID_EXE, a, "--serve", endpoint(), "--cells", "2"}, (dir_ / "fluid.log").string());
-  Process tracers = spawn({DLD_TRACERS_EXE, b, "--connect", endpoint(), "--count", "2", "--steps", "10"},
-                          (dir_ / "tracers.log").string());
+  Process fluid = spawn({DLD_FLUID_EXE, a, "--serve", endpoint(), "--cells", "2"},
+                        (dir_ / "fluid.log").string());
+  Process tracers =
+      spawn({DLD_TRACERS_EXE, b, "--connect", endpoint(), "--count", "2", "--steps", "10"},
+            (dir_ / "tracers.log").string());
   EXPECT_NE(wait_for(tracers, 20), 0);
   EXPECT_NE(wait_for(fluid, 20), 0);
   const std::string lf = slurp(fluid.log), lt = slurp(tracers.log);
@@ -151,17 +163,20 @@ TEST_F(TracersCoupled, LauncherRunsTwoMembraneProcessesAndStopsCleanlyOnCtrlC) {
     std::stringstream t;
     t << in.rdbuf();
     std::string text = t.str();
-    text.replace(text.find("[output]\n"), 9, "[output]\nfile = \"" + (dir_ / "run.h5").string() + "\"\n");
+    text.replace(text.find("[output]\n"), 9,
+                 "[output]\nfile = \"" + (dir_ / "run.h5").string() + "\"\n");
     std::ofstream(sc) << text;
   }
-  Process run = spawn({DLD_RUN_EXE, sc, "--tracers", "3", "--steps", "100000000"}, (dir_ / "run.log").string());
+  Process run = spawn({DLD_RUN_EXE, sc, "--tracers", "3", "--steps", "100000000"},
+                      (dir_ / "run.log").string());
   std::this_thread::sleep_for(std::chrono::milliseconds(2500));
   kill(run.pid, SIGINT);
   EXPECT_EQ(wait_for(run, 20), 130) << slurp(run.log);
   // Both membrane programs stopped at the same step and wrote their files.
   std::vector<double> last;
   for (int k = 0; k < 2; ++k) {
-    dld::H5File f((dir_ / ("run-tracers-" + std::to_string(k) + ".h5")).string(), dld::H5File::Mode::kRead);
+    dld::H5File f((dir_ / ("run-tracers-" + std::to_string(k) + ".h5")).string(),
+                  dld::H5File::Mode::kRead);
     std::vector<std::uint64_t> dims;
     const auto s = f.read("/tracers/samples", &dims);
     last.push_back(s[(dims[0] - 1) * dims[1]]);
@@ -170,7 +185,8 @@ TEST_F(TracersCoupled, LauncherRunsTwoMembraneProcessesAndStopsCleanlyOnCtrlC) {
   const std::string l1 = slurp((dir_ / "run-tracers-1.log").string());
   const auto steps_of = [](const std::string& log) {
     const auto p = log.find("tracers ran ");
-    return p == std::string::npos ? std::string("?") : log.substr(p + 12, log.find(' ', p + 12) - p - 12);
+    return p == std::string::npos ? std::string("?")
+                                  : log.substr(p + 12, log.find(' ', p + 12) - p - 12);
   };
   EXPECT_EQ(steps_of(l0), steps_of(l1)) << l0 << l1;
   EXPECT_NE(steps_of(l0), "?") << l0;
@@ -182,18 +198,22 @@ TEST_F(TracersCoupled, OneRedBloodCellMovesWithTheFlowAndKeepsItsVolume) {
   // the walls and keeps its volume (issue 4 asks < 0.5 % drift over a run).
   if (std::string(DLD_MEMBRANE_EXE).empty()) GTEST_SKIP() << "membrane part not built";
   const std::string sc = (dir_ / "cell.toml").string(), out = (dir_ / "cells.h5").string();
-  std::ofstream(sc) << "[scene]\nname = \"cell\"\n[geometry]\npillar_radius_um = 10.0\n"
-                       "pillar_spacing_um = 32.0\ndepth_um = 4.8\nrow_shift_um = 4.4\n"
-                       "[lattice]\ndx_um = 0.8\n[drive]\nreynolds = 0.1\n[output]\nfields = false\n"
-                       "[coupling]\ntimeout_s = 20\n"
-                       "[membrane]\nradius_um = 3.9\nmesh_faces = 500\nmodels = [\"skalak\", \"bending\", "
-                       "\"volume\"]\ncapillary_number = 0.2\nmesh_cache = \"" << (dir_ / "meshes").string() << "\"\n"
-                       "[membrane.skalak]\narea_modulus_ref_lu = 0.5\n[membrane.bending]\nmodulus_rel = 2.5e-3\n"
-                       "[membrane.volume]\nmodulus_rel = 1000.0\n[membrane.contact]\nrange_um = 0.8\n"
-                       "strength_rel = 1.0\n[[cells.cell]]\ncentre_um = [3.0, 3.0, 2.4]\n";
-  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "1"}, (dir_ / "fluid.log").string());
-  Process cell = spawn({DLD_MEMBRANE_EXE, sc, "--connect", endpoint(), "--steps", "2000", "--sample-every", "500",
-                        "-o", out},
+  std::ofstream(sc)
+      << "[scene]\nname = \"cell\"\n[geometry]\npillar_radius_um = 10.0\n"
+         "pillar_spacing_um = 32.0\ndepth_um = 4.8\nrow_shift_um = 4.4\n"
+         "[lattice]\ndx_um = 0.8\n[drive]\nreynolds = 0.1\n[output]\nfields = false\n"
+         "[coupling]\ntimeout_s = 20\n"
+         "[membrane]\nradius_um = 3.9\nmesh_faces = 500\nmodels = [\"skalak\", \"bending\", "
+         "\"volume\"]\ncapillary_number = 0.2\nmesh_cache = \""
+      << (dir_ / "meshes").string()
+      << "\"\n"
+         "[membrane.skalak]\narea_modulus_ref_lu = 0.5\n[membrane.bending]\nmodulus_rel = 2.5e-3\n"
+         "[membrane.volume]\nmodulus_rel = 1000.0\n[membrane.contact]\nrange_um = 0.8\n"
+         "strength_rel = 1.0\n[[cells.cell]]\ncentre_um = [3.0, 3.0, 2.4]\n";
+  Process fluid = spawn({DLD_FLUID_EXE, sc, "--serve", endpoint(), "--cells", "1"},
+                        (dir_ / "fluid.log").string());
+  Process cell = spawn({DLD_MEMBRANE_EXE, sc, "--connect", endpoint(), "--steps", "2000",
+                        "--sample-every", "500", "-o", out},
                        (dir_ / "cell.log").string());
   EXPECT_EQ(wait_for(cell, 180), 0) << slurp(cell.log);
   EXPECT_EQ(wait_for(fluid, 30), 0) << slurp(fluid.log);
@@ -208,7 +228,8 @@ TEST_F(TracersCoupled, OneRedBloodCellMovesWithTheFlowAndKeepsItsVolume) {
   EXPECT_GT(last[1] - first[1], 0.5) << "downstream drift [um] in 2000 steps";
   EXPECT_GT(last[3], 1.0);
   EXPECT_LT(last[3], 3.8);
-  EXPECT_LT(std::abs(last[4] / first[4] - 1.0), 0.005) << "volume " << first[4] << " -> " << last[4];
+  EXPECT_LT(std::abs(last[4] / first[4] - 1.0), 0.005)
+      << "volume " << first[4] << " -> " << last[4];
 }
 
 }  // namespace
