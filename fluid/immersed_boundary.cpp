@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/immersed_boundary.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -111,12 +113,37 @@ void ImmersedBoundary::spread(std::span<const double> positions, std::span<const
   const std::size_t n = lattice_.padded_size();
   for (int a = 0; a < 3; ++a) std::fill(field[a], field[a] + n, 0.0);
   const std::size_t markers = positions.size() / 3;
-  IbStencil s;
-  // Serial: markers of one cell share nodes; a parallel version needs per-thread fields.
-  for (std::size_t m = 0; m < markers; ++m) {
-    if (!stencil(&positions[3 * m], s)) no_fluid_near(m, &positions[3 * m]);
-    for (int q = 0; q < s.count; ++q)
-      for (int a = 0; a < 3; ++a) field[a][s.node[q]] += s.weight[q] * forces[3 * m + a];
+  // Markers of one cell share nodes: each thread spreads into a field of its own, then the
+  // fields are added up (in thread order, so a given thread count gives the same result).
+  const int threads = omp_get_max_threads();
+  scratch_.assign(static_cast<std::size_t>(threads - 1) * 3 * n, 0.0);
+  std::size_t bad = markers;
+#pragma omp parallel num_threads(threads) reduction(min : bad)
+  {
+    const int t = omp_get_thread_num();
+    double* own[3];
+    for (int a = 0; a < 3; ++a)
+      own[a] = t == 0 ? field[a] : scratch_.data() + (static_cast<std::size_t>(t - 1) * 3 + a) * n;
+    IbStencil s;
+#pragma omp for schedule(static)
+    for (std::size_t m = 0; m < markers; ++m) {
+      if (!stencil(&positions[3 * m], s)) {
+        bad = std::min(bad, m);
+        continue;
+      }
+      for (int q = 0; q < s.count; ++q)
+        for (int a = 0; a < 3; ++a) own[a][s.node[q]] += s.weight[q] * forces[3 * m + a];
+    }
+  }
+  if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
+  if (threads > 1) {
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < 3 * n; ++i) {
+      double sum = 0;
+      for (int t = 1; t < threads; ++t)
+        sum += scratch_[(static_cast<std::size_t>(t - 1) * 3) * n + i];
+      field[i / n][i % n] += sum;
+    }
   }
 }
 

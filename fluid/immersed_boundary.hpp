@@ -49,6 +49,7 @@ class ImmersedBoundary {
  private:
   const Lattice& lattice_;
   IbKernel kernel_;
+  mutable std::vector<double> scratch_;  ///< per-thread force fields of spread()
 };
 
 }  // namespace dld::fluid

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Immersed-boundary kernels, spreading and interpolation, including across the shifted x face.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <random>
@@ -176,6 +177,31 @@ TEST(ImmersedBoundary, SpreadAndInterpolateAreAdjoint) {
   for (int i = 0; i < 9; ++i) pm += um[i] * frc[i];
   for (std::size_t s = 0; s < 3 * n; ++s) pf += u[s] * field[s];
   EXPECT_NEAR(pm, pf, 1e-13);
+}
+
+TEST(ImmersedBoundary, SpreadingWithTwoThreadsEqualsOneThread) {
+  // Per-thread force fields are added up after spreading: the result must not depend on it.
+  const Lattice L(test_domain(3.4));
+  const ImmersedBoundary ib(L, IbKernel::kPeskin4);
+  const std::size_t n = L.padded_size();
+  std::vector<double> pos, frc;
+  for (int m = 0; m < 300; ++m) {
+    pos.insert(pos.end(), {0.08 * m, 1.0 + 0.01 * m, 2.0 + 0.02 * m});  // below the pillar
+    frc.insert(frc.end(), {std::sin(m * 1.0), std::cos(m * 0.7), 0.1});
+  }
+  std::vector<double> one(3 * n), two(3 * n);
+  omp_set_num_threads(1);
+  ib.spread(pos, frc, {one.data(), one.data() + n, one.data() + 2 * n});
+  omp_set_num_threads(2);
+  ib.spread(pos, frc, {two.data(), two.data() + n, two.data() + 2 * n});
+  omp_set_num_threads(1);
+  double diff = 0, size = 0;
+  for (std::size_t i = 0; i < 3 * n; ++i) {
+    diff = std::max(diff, std::abs(one[i] - two[i]));
+    size = std::max(size, std::abs(one[i]));
+  }
+  EXPECT_GT(size, 0.0);
+  EXPECT_LT(diff, 1e-14 * size);
 }
 
 TEST(ImmersedBoundary, MarkerInsideThePillarIsReported) {
