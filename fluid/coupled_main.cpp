@@ -52,15 +52,29 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     std::vector<double> velocity;
     const auto start = std::chrono::steady_clock::now();
     std::int64_t steps = 0;
+    // Wall time per phase: waiting for the membranes (their work plus the exchange), spreading,
+    // the lattice step, interpolating and sending.
+    using Clock = std::chrono::steady_clock;
+    double t_wait = 0, t_spread = 0, t_fluid = 0, t_interp = 0;
+    auto lap = [](Clock::time_point& t0, double& acc) {
+      const auto t1 = Clock::now();
+      acc += std::chrono::duration<double>(t1 - t0).count();
+      t0 = t1;
+    };
     signal(SIGINT, on_sigint);
+    auto t0 = Clock::now();
     while (!g_stop && side.receive()) {
+      lap(t0, t_wait);
       const auto x = side.positions();
       const auto f = side.forces();
       ib.spread(x, f, solver.force_field());
+      lap(t0, t_spread);
       solver.step();
+      lap(t0, t_fluid);
       velocity.resize(x.size());
       ib.interpolate(x, solver.velocity_field(), velocity);
       side.send_velocities(velocity);
+      lap(t0, t_interp);
       ++steps;
       if (steps % scene.run.log_every == 0) {
         const double secs =
@@ -78,6 +92,13 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     side.finalize();
     spdlog::info("{} after {} steps", g_stop ? "interrupted: run ended" : "membranes ended the run",
                  steps);
+    if (steps > 0) {
+      const double ms = 1e3 / static_cast<double>(steps);
+      spdlog::info(
+          "time per step [ms]: fluid {:.3f}, spread {:.3f}, interpolate+send {:.3f}, waiting for "
+          "the membranes {:.3f}",
+          t_fluid * ms, t_spread * ms, t_interp * ms, t_wait * ms);
+    }
     return 0;
   } catch (const coupler::CouplerError& e) {
     spdlog::error("{}", e.what());

@@ -68,7 +68,11 @@ void FluidSolver::step() {
   const bool ff = !force_field_.empty(), tf = !tau_field_.empty();
   if (ff) {
     const std::size_t n = lattice_.padded_size();
-    for (int a = 0; a < 3; ++a) p.force_field[a] = force_field_.data() + a * n;
+    if (velocity_.empty()) velocity_.assign(3 * n, 0.0);
+    for (int a = 0; a < 3; ++a) {
+      p.force_field[a] = force_field_.data() + a * n;
+      p.velocity[a] = velocity_.data() + a * n;
+    }
   }
   if (tf) p.tau_field = tau_field_.data();
   sums_ = config_.collision == CollisionKind::kBgk
@@ -76,6 +80,7 @@ void FluidSolver::step() {
               : dispatch_fields<Trt>(ff, tf, lattice_, f_.data(), g_.data(), p);
   applied_force_y_ = force_y_;
   f_.swap(g_);
+  velocity_current_ = ff;
   ++steps_;
   if (controller_) force_y_ = controller_->update(mean_velocity()[1]);
 }
@@ -109,6 +114,7 @@ Moments FluidSolver::node_moments(int i, int j, int k) const {
 std::array<const double*, 3> FluidSolver::velocity_field() {
   const std::size_t n = lattice_.padded_size();
   if (velocity_.empty()) velocity_.assign(3 * n, 0.0);
+  if (velocity_current_) return {velocity_.data(), velocity_.data() + n, velocity_.data() + 2 * n};
   const int nx = lattice_.nx(), ny = lattice_.ny(), nz = lattice_.nz();
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < nz; ++k)

@@ -54,7 +54,8 @@ class FluidSolver {
               std::vector<double>& uz) const;
 
   /// Velocity of every fluid node (0 on solid nodes) as three arrays of padded size, from the
-  /// current populations; recomputed on each call.
+  /// current populations. With a force field the step's kernel stored it already (no extra pass);
+  /// otherwise it is recomputed on each call.
   std::array<const double*, 3> velocity_field();
 
   /// Per-node body force field, added to the uniform force (created zeroed on first call).
@@ -64,13 +65,17 @@ class FluidSolver {
 
   /// Current post-collision populations (SoA, stride lattice().padded_size()).
   const double* populations() const { return f_.data(); }
-  double* populations() { return f_.data(); }
+  double* populations() {
+    velocity_current_ = false;  // the caller may change them
+    return f_.data();
+  }
 
  private:
   FluidConfig config_;
   Lattice lattice_;
   std::vector<double> f_, g_;  ///< current and next populations
   std::vector<double> force_field_, tau_field_, velocity_;
+  bool velocity_current_ = false;  ///< velocity_ holds the kernel's u of the last step
   FlowSums sums_;
   double force_y_ = 0.0;          ///< y force for the next step
   double applied_force_y_ = 0.0;  ///< y force of the last step (to recover u)

@@ -111,15 +111,21 @@ void ImmersedBoundary::spread(std::span<const double> positions, std::span<const
                               const std::array<double*, 3>& field) const {
   assert(positions.size() == forces.size());
   const std::size_t n = lattice_.padded_size();
-  for (int a = 0; a < 3; ++a) std::fill(field[a], field[a] + n, 0.0);
   const std::size_t markers = positions.size() / 3;
   // Markers of one cell share nodes: each thread spreads into a field of its own, then the
-  // fields are added up (in thread order, so a given thread count gives the same result).
+  // fields are added up (in thread order, so a given thread count gives the same result). The
+  // per-thread fields are kept between calls and left zeroed by the reduction.
   const int threads = omp_get_max_threads();
-  scratch_.assign(static_cast<std::size_t>(threads - 1) * 3 * n, 0.0);
+  const std::size_t scratch_size = static_cast<std::size_t>(threads - 1) * 3 * n;
+  if (scratch_.size() != scratch_size) scratch_.assign(scratch_size, 0.0);
   std::size_t bad = markers;
 #pragma omp parallel num_threads(threads) reduction(min : bad)
   {
+    for (int a = 0; a < 3; ++a) {
+#pragma omp for schedule(static) nowait
+      for (std::size_t i = 0; i < n; ++i) field[a][i] = 0.0;
+    }
+#pragma omp barrier
     const int t = omp_get_thread_num();
     double* own[3];
     for (int a = 0; a < 3; ++a)
@@ -134,17 +140,18 @@ void ImmersedBoundary::spread(std::span<const double> positions, std::span<const
       for (int q = 0; q < s.count; ++q)
         for (int a = 0; a < 3; ++a) own[a][s.node[q]] += s.weight[q] * forces[3 * m + a];
     }
+    // (the loop's implicit barrier: every thread's field is complete)
+    for (int u = 1; u < threads; ++u)
+      for (int a = 0; a < 3; ++a) {
+        double* other = scratch_.data() + (static_cast<std::size_t>(u - 1) * 3 + a) * n;
+#pragma omp for schedule(static) nowait
+        for (std::size_t i = 0; i < n; ++i) {
+          field[a][i] += other[i];
+          other[i] = 0.0;
+        }
+      }
   }
   if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
-  if (threads > 1) {
-#pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < 3 * n; ++i) {
-      double sum = 0;
-      for (int t = 1; t < threads; ++t)
-        sum += scratch_[(static_cast<std::size_t>(t - 1) * 3) * n + i];
-      field[i / n][i % n] += sum;
-    }
-  }
 }
 
 void ImmersedBoundary::interpolate(std::span<const double> positions,

@@ -28,6 +28,10 @@ struct KernelParams {
   double force[3] = {0, 0, 0};  ///< uniform body force density (lattice units)
   const double* force_field[3] = {nullptr, nullptr, nullptr};  ///< per node, added to `force`
   const double* tau_field = nullptr;                           ///< per node relaxation time
+  /// With a force field (coupled runs), the kernel also stores each fluid node's velocity here
+  /// (the u of the collision, Guo's half-force shift included): the immersed boundary interpolates
+  /// it without a second pass over the populations.
+  double* velocity[3] = {nullptr, nullptr, nullptr};
 };
 
 /// Values allocated past the end of a population array so masked lanes can read safely.
@@ -57,6 +61,9 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
   const double* force_y = kForceField ? p.force_field[1] + node : nullptr;
   const double* force_z = kForceField ? p.force_field[2] + node : nullptr;
   const double* tau = kTauField ? p.tau_field + node : nullptr;
+  double* vel_x = kForceField ? p.velocity[0] + node : nullptr;
+  double* vel_y = kForceField ? p.velocity[1] + node : nullptr;
+  double* vel_z = kForceField ? p.velocity[2] + node : nullptr;
   double mass = 0, mx = 0, my = 0, mz = 0;
 #pragma omp simd reduction(+ : mass, mx, my, mz)
   for (int l = 0; l < kW; ++l) {
@@ -92,6 +99,13 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
     const double kp = 1.0 - 0.5 * op, km = 1.0 - 0.5 * om;
     // Same algebra as collide() in collision.hpp, with the directions unrolled.
     const bool live = !kMasked || l < count;
+    if constexpr (kForceField) {
+      if (live) {
+        vel_x[l] = ux;
+        vel_y[l] = uy;
+        vel_z[l] = uz;
+      }
+    }
     if (live)
       out[0][l] = f[0] - op * (f[0] - D3Q19::w[0] * rho * (1.0 - 1.5 * uu)) +
                   kp * D3Q19::w[0] * (-3.0 * uf);

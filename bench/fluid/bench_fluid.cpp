@@ -85,14 +85,14 @@ void BM_NaiveBgkBox128(benchmark::State& state) {
 }
 BENCHMARK(BM_NaiveBgkBox128)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
-// Immersed boundary for 17 cells of 1002 markers (the 45.6 % haematocrit case) at dx = 0.4 um:
-// markers on spheres of radius 9 nodes spread over the fluid part of the box.
-std::vector<double> markers_17_cells(const dld::fluid::Lattice& L) {
+// Immersed boundary for `count` cells of 1002 markers at dx = 0.4 um (17: the 45.6 % haematocrit
+// case): flat clouds of radius 9 nodes spread over the fluid part of the box.
+std::vector<double> marker_cells(const dld::fluid::Lattice& L, int count) {
   std::vector<double> x;
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   int cells = 0;
-  while (cells < 17) {
+  while (cells < count) {
     const double c[3] = {u(rng) * L.nx(), u(rng) * L.ny(), 0.5 * L.nz()};
     if (L.domain().in_pillar(c[0], c[1]) || L.domain().in_pillar(c[0] + 9, c[1]) ||
         L.domain().in_pillar(c[0] - 9, c[1]) || L.domain().in_pillar(c[0], c[1] + 9) ||
@@ -108,27 +108,52 @@ std::vector<double> markers_17_cells(const dld::fluid::Lattice& L) {
   return x;
 }
 
-void BM_IbSpread17Cells(benchmark::State& state) {
+// Args: threads, cells.
+void BM_IbSpread(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
   FluidSolver s(dld_config());
   const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
-  const auto x = markers_17_cells(s.lattice());
+  const auto x = marker_cells(s.lattice(), static_cast<int>(state.range(1)));
   const std::vector<double> f(x.size(), 1e-6);
   for (auto _ : state) ib.spread(x, f, s.force_field());
   state.counters["markers"] = static_cast<double>(x.size() / 3);
 }
-BENCHMARK(BM_IbSpread17Cells)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_IbSpread)
+    ->ArgsProduct({{1, 2}, {1, 17}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
 
-void BM_IbInterpolate17Cells(benchmark::State& state) {
+// Interpolation alone: the velocity field is what a coupled step's kernel leaves behind.
+void BM_IbInterpolate(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
   FluidSolver s(dld_config());
   const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
-  const auto x = markers_17_cells(s.lattice());
+  const auto x = marker_cells(s.lattice(), static_cast<int>(state.range(1)));
   std::vector<double> u(x.size());
+  s.force_field();
+  s.step();
   for (auto _ : state) ib.interpolate(x, s.velocity_field(), u);
   state.counters["markers"] = static_cast<double>(x.size() / 3);
 }
-BENCHMARK(BM_IbInterpolate17Cells)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_IbInterpolate)
+    ->ArgsProduct({{1, 2}, {1, 17}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+
+// The lattice step of a coupled run (force field in, velocity field out) against the plain one.
+void BM_DldCellStepWithForceField(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  s.force_field();
+  s.step();
+  for (auto _ : state) s.step();
+  report(state, static_cast<double>(s.lattice().fluid_nodes()));
+}
+BENCHMARK(BM_DldCellStepWithForceField)
+    ->Arg(1)
+    ->Arg(2)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 void BM_MemoryBandwidth(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
