@@ -3,7 +3,8 @@
 // [[cells.cell]] list) exchange positions and forces for velocities with dld-fluid every step,
 // and move with the fluid (no-slip: X += U dt, dt = 1 in lattice units).
 // Output: per-cell centroid (device frame, um: cells are never folded into the box) and volume
-// every `sample_every` steps, written when the run ends or fails.
+// every `sample_every` steps, rewritten atomically every `flush_every_s` and when the run ends or
+// fails. Progress lines give pillars passed, steps/s, the ETA to the pillar target and the modes.
 #include "membrane/coupled_main.hpp"
 
 #include <fmt/format.h>
@@ -13,12 +14,14 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 #include "coupler/endpoint.hpp"
 #include "coupler/error.hpp"
 #include "coupler/membrane_side.hpp"
 #include "coupler/scene_identity.hpp"
+#include "membrane/column_tracker.hpp"
 #include "shared/h5file.hpp"
 
 namespace dld::membrane {
@@ -29,18 +32,44 @@ void on_sigint(int) {
   g_stop = 1;
 }
 
-void write_samples(const std::string& path, const std::vector<double>& rows, int cells,
-                   int first_cell, double dt_s) {
+/// What a run file says about the run besides the samples (read by dld-analyze).
+struct RunFacts {
+  int cells = 0, first_cell = 0;
+  double dt_s = 0, lambda_um = 0, row_shift_um = 0;
+  std::string scene_name;
+  std::optional<double> capillary_number;
+};
+
+/// Writes the samples to `path` through a temporary file and a rename, so a reader (or a crash)
+/// never sees a half-written file: the previous complete file stays until the new one is whole.
+void write_samples(const std::string& path, const std::vector<double>& rows, const RunFacts& r) {
   std::filesystem::path p(path);
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  H5File f(path, H5File::Mode::kCreate);
-  const std::uint64_t width = 1 + 4 * static_cast<std::uint64_t>(cells);
-  f.write("/cells/samples", rows.data(), {rows.size() / width, width});
-  f.attribute("/cells/samples", "columns",
-              std::string("step, then per cell: centroid x y z [um, device frame], volume [um^3]"));
-  f.attribute("/cells", "count", static_cast<std::int64_t>(cells));
-  f.attribute("/cells", "first_cell", static_cast<std::int64_t>(first_cell));
-  f.attribute("/cells", "dt_s", dt_s);
+  const std::string tmp = path + ".tmp";
+  {
+    H5File f(tmp, H5File::Mode::kCreate);
+    const std::uint64_t width = 1 + 4 * static_cast<std::uint64_t>(r.cells);
+    f.write("/cells/samples", rows.data(), {rows.size() / width, width});
+    f.attribute(
+        "/cells/samples", "columns",
+        std::string("step, then per cell: centroid x y z [um, device frame], volume [um^3]"));
+    f.attribute("/cells", "count", static_cast<std::int64_t>(r.cells));
+    f.attribute("/cells", "first_cell", static_cast<std::int64_t>(r.first_cell));
+    f.attribute("/cells", "dt_s", r.dt_s);
+    f.attribute("/cells", "frame", std::string("device"));
+    f.attribute("/cells", "pillar_spacing_um", r.lambda_um);
+    f.attribute("/cells", "row_shift_um", r.row_shift_um);
+    f.attribute("/cells", "scene_name", r.scene_name);
+    if (r.capillary_number) f.attribute("/cells", "capillary_number", *r.capillary_number);
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+std::optional<double> capillary_number(const Scene& scene) {
+  if (const auto* v =
+          scene.document->root().at_path("membrane.capillary_number").as_floating_point())
+    return v->get();
+  return std::nullopt;
 }
 
 }  // namespace
@@ -69,18 +98,52 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
   coupler::MembraneSide side(mc);
 
   const double dx_um = scene.lattice.dx_um;
+  const RunFacts facts{
+      cells.cell_count(),  first,      scene.units().dt_s(),   scene.cell_um.lambda,
+      scene.cell_um.shift, scene.name, capillary_number(scene)};
+  auto centroids_um = [&] {
+    std::vector<Eigen::Vector3d> c;
+    for (int k = 0; k < cells.cell_count(); ++k) c.push_back(cells.centroid(k) * dx_um);
+    return c;
+  };
+  ColumnTracker tracker(facts.lambda_um, facts.row_shift_um, centroids_um());
   std::vector<double> rows;
   auto sample = [&](std::int64_t step) {
     rows.push_back(static_cast<double>(step));
-    for (int k = 0; k < cells.cell_count(); ++k) {
-      const Eigen::Vector3d c = cells.centroid(k);
-      rows.insert(rows.end(), {c.x() * dx_um, c.y() * dx_um, c.z() * dx_um,
-                               cells.volume(k) * dx_um * dx_um * dx_um});
-    }
+    const auto c = centroids_um();
+    for (int k = 0; k < cells.cell_count(); ++k)
+      rows.insert(rows.end(),
+                  {c[k].x(), c[k].y(), c[k].z(), cells.volume(k) * dx_um * dx_um * dx_um});
+    tracker.update(c);
   };
   auto finish = [&] {
-    if (!a.output.empty())
-      write_samples(a.output, rows, cells.cell_count(), first, scene.units().dt_s());
+    if (!a.output.empty()) write_samples(a.output, rows, facts);
+  };
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto last_flush = start;
+  auto progress = [&](std::int64_t step) {
+    const double secs = std::chrono::duration<double>(Clock::now() - start).count();
+    double done = 0;  // columns of the slowest cell, fractional
+    for (int k = 0; k < cells.cell_count(); ++k)
+      done = k == 0 ? tracker.fractional_columns(k) : std::min(done, tracker.fractional_columns(k));
+    std::string eta;
+    if (a.pillars > 0 && done > 0.05)
+      eta = fmt::format("  ETA {:.0f} s", secs * (a.pillars - done) / done);
+    std::string modes;
+    for (int k = 0; k < cells.cell_count() && k < 4; ++k)
+      modes += fmt::format(" {}:{}", first + k, to_string(tracker.mode(k)));
+    spdlog::info("step {:>9}  pillars passed {:.2f}{}  {:.1f} steps/s{}  modes{}", step, done,
+                 a.pillars > 0 ? fmt::format("/{}", a.pillars) : std::string(),
+                 static_cast<double>(step) / secs, eta, modes);
+  };
+  auto summary = [&] {
+    for (int k = 0; k < cells.cell_count(); ++k)
+      spdlog::info(
+          "summary: cell {}  mode {}  columns {}  lateral shift per column {:.3f} um "
+          "(d = {} um)  volume change {:+.3f} %",
+          first + k, to_string(tracker.mode(k)), tracker.columns(k), tracker.shift_per_column(k),
+          facts.row_shift_um, 100 * (cells.volume(k) / v0[static_cast<std::size_t>(k)] - 1));
   };
   try {
     side.initialize();
@@ -91,10 +154,14 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     std::vector<double> u(static_cast<std::size_t>(3 * cells.node_count()));
     sample(0);
     std::int64_t s = 0;
+    std::string reason = "step limit reached";
     for (; s < a.steps && !g_stop; ++s) {
       cells.compute_forces(force);
       const std::span<const double> f(force.data(), static_cast<std::size_t>(force.size()));
-      if (!side.advance(cells.flat_positions(), f, u)) break;
+      if (!side.advance(cells.flat_positions(), f, u)) {
+        reason = "the fluid ended the run";
+        break;
+      }
       cells.move(std::span<const double>(u), 1.0);
       if ((s + 1) % a.sample_every == 0) {
         sample(s + 1);
@@ -108,11 +175,29 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
                 fmt::format("cell {} volume changed by {:+.1f} % at step {} (unstable)", first + k,
                             100 * (v / v0[static_cast<std::size_t>(k)] - 1), s + 1));
         }
+        if (a.pillars > 0 && tracker.min_columns() >= a.pillars) {
+          reason = fmt::format("every cell passed {} pillars", a.pillars);
+          ++s;
+          break;
+        }
+        if (a.stop_when_mode_certain && tracker.all_modes_certain()) {
+          reason = "every cell's mode is certain";
+          ++s;
+          break;
+        }
+        if (!a.output.empty() &&
+            Clock::now() - last_flush > std::chrono::duration<double>(a.flush_every_s)) {
+          finish();
+          last_flush = Clock::now();
+        }
       }
+      if ((s + 1) % scene.run.log_every == 0) progress(s + 1);
     }
+    if (g_stop) reason = "interrupted";
     side.finalize();
     finish();
-    spdlog::info("ran {} steps", s);
+    spdlog::info("ran {} steps: {}", s, reason);
+    summary();
     return 0;
   } catch (const coupler::CouplerError& e) {
     finish();

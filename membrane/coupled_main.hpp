@@ -13,6 +13,9 @@ struct CoupledArgs {
   std::int64_t steps = 1000;  ///< steps to run, then end the run
   std::int64_t sample_every = 100;
   std::string output;  ///< cell trajectories (HDF5); "" = none
+  int pillars = 0;     ///< end the run once every cell has passed this many columns (0: off)
+  bool stop_when_mode_certain = false;  ///< end the run once every cell's mode is certain
+  double flush_every_s = 30;            ///< wall seconds between rewrites of the output file
 };
 
 /// Runs this process's share of the scene's cells against dld-fluid; returns the exit code.

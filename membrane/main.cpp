@@ -95,12 +95,23 @@ int main(int argc, char** argv) {
   bool verbose = false;
   dld::membrane::CoupledArgs coupled;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
-  app.add_option("--connect", coupled.endpoint, "coupled mode: the fluid's endpoint (dld-fluid --serve)");
+  app.add_option("--connect", coupled.endpoint,
+                 "coupled mode: the fluid's endpoint (dld-fluid --serve)");
   app.add_option("--peer", coupled.peer, "this process's index among the membrane processes")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--peers", coupled.peers, "membrane processes in the run")->check(CLI::Range(1, 64));
-  app.add_option("--steps", coupled.steps, "coupled mode: steps to run")->check(CLI::PositiveNumber);
+  app.add_option("--peers", coupled.peers, "membrane processes in the run")
+      ->check(CLI::Range(1, 64));
+  app.add_option("--steps", coupled.steps, "coupled mode: steps to run")
+      ->check(CLI::PositiveNumber);
   app.add_option("--sample-every", coupled.sample_every, "coupled mode: steps between samples")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--pillars", coupled.pillars,
+                 "coupled mode: end the run once every cell has passed this many pillars")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--until-mode-certain", coupled.stop_when_mode_certain,
+               "coupled mode: end the run once every cell's mode (zigzag/displacement) is certain");
+  app.add_option("--flush-every", coupled.flush_every_s,
+                 "coupled mode: wall seconds between rewrites of the trajectory file")
       ->check(CLI::PositiveNumber);
   app.add_option("-o,--output", output,
                  "HDF5 output of standalone runs (default: the scene's output.file)");
@@ -115,7 +126,8 @@ int main(int argc, char** argv) {
     spdlog::info("mesh: {}", describe(mesh_quality(m.reference_lu)));
     if (!coupled.endpoint.empty()) {
       if (coupled.peer >= coupled.peers)
-        throw dld::InputError(fmt::format("--peer {}: expected below --peers {}", coupled.peer, coupled.peers));
+        throw dld::InputError(
+            fmt::format("--peer {}: expected below --peers {}", coupled.peer, coupled.peers));
       coupled.output = output;
       return run_coupled(scene, m, coupled);
     }

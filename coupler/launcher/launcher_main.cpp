@@ -52,7 +52,8 @@ int main(int argc, char** argv) {
   std::string scene_path, membrane = "tracers";
   int tracers = 16;
   std::int64_t steps = 1000;
-  bool dry = false;
+  bool dry = false, until_certain = false;
+  int pillars = 0;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
   app.add_option("--membrane", membrane,
                  "membrane program: cells (dld-membrane, the scene's [[cells.cell]]) or tracers "
@@ -61,6 +62,11 @@ int main(int argc, char** argv) {
   app.add_option("--tracers", tracers, "tracer particles per membrane process")
       ->check(CLI::Range(1, 1000000));
   app.add_option("--steps", steps, "steps to run")->check(CLI::PositiveNumber);
+  app.add_option("--pillars", pillars,
+                 "cells: end the run once every cell has passed this many pillars")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--until-mode-certain", until_certain,
+               "cells: end the run once every cell's mode (zigzag/displacement) is certain");
   app.add_flag("--dry-run", dry, "validate the scene and print the commands, start nothing");
   CLI11_PARSE(app, argc, argv);
 
@@ -105,6 +111,8 @@ int main(int argc, char** argv) {
                                  "-o",
                                  fmt::format("{}-{}-{}.h5", stem, membrane, k)};
       if (!with_cells) c.insert(c.end(), {"--count", std::to_string(tracers)});
+      if (with_cells && pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(pillars)});
+      if (with_cells && until_certain) c.push_back("--until-mode-certain");
       commands.push_back(c);
     }
     for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
@@ -150,6 +158,10 @@ int main(int argc, char** argv) {
       if (now - last_report > std::chrono::seconds(5)) {
         fmt::print("[{:.0f} s] fluid: {}\n", std::chrono::duration<double>(now - start).count(),
                    last_line(children[0].log));
+        // The membranes know the cells: pillars passed, ETA and modes.
+        for (std::size_t k = 1; k < children.size(); ++k)
+          fmt::print("      {}: {}\n", children[k].name, last_line(children[k].log));
+        std::fflush(stdout);
         last_report = now;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));

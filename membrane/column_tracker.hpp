@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: MIT
+// Columns passed and the transport mode of each cell during a coupled run (SPEC section 7), from
+// the cells' centroids in device coordinates [um]. It drives the run's progress output and its
+// stop rules (a pillar target; stopping once every cell's mode is certain).
+//
+// Mode rule (dilute-limit runs, issue 4): after the first column (entry transient), the mean
+// lateral shift per column s = (y(c) - y(1)) / (c - 1) is ~d for displacement and ~0 for zigzag
+// (a zigzag cell follows the flow and keeps its device y). The mode is "certain" once the cell has
+// passed one whole zigzag period, ceil(lambda/d) + 1 columns and at least 5, and s lies within a
+// quarter of d of one of the two; otherwise it is "mixed".
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace dld::membrane {
+
+enum class TransportMode { kUndecided, kZigzag, kDisplacement, kMixed };
+std::string to_string(TransportMode m);
+
+class ColumnTracker {
+ public:
+  /// lambda and d in um; starts = the cells' initial centroids [um, device frame].
+  ColumnTracker(double lambda_um, double row_shift_um, std::vector<Eigen::Vector3d> starts);
+
+  /// Records the centroids at a sample (same order as the starts).
+  void update(const std::vector<Eigen::Vector3d>& centroids);
+
+  int cells() const { return static_cast<int>(start_.size()); }
+  /// Whole columns cell k has passed since its start: floor((x - x0) / lambda).
+  int columns(int k) const;
+  double fractional_columns(int k) const;
+  int min_columns() const;
+  /// Mean lateral shift per column after the first column [um]; NaN before two columns.
+  double shift_per_column(int k) const;
+  TransportMode mode(int k) const;
+  /// Columns after which a mode can be certain (one zigzag period, at least 5).
+  int columns_for_certainty() const;
+  bool all_modes_certain() const;
+
+ private:
+  double lambda_, d_;
+  std::vector<Eigen::Vector3d> start_, now_;
+  std::vector<double> y_after_first_;  ///< device y when column 1 was passed (NaN before)
+  std::vector<double> x_after_first_;
+};
+
+}  // namespace dld::membrane
