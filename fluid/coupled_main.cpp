@@ -16,6 +16,7 @@
 #include "coupler/error.hpp"
 #include "coupler/fluid_side.hpp"
 #include "coupler/scene_identity.hpp"
+#include "fluid/checkpoint.hpp"
 #include "fluid/fluid_output.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/immersed_boundary.hpp"
@@ -43,8 +44,16 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
   coupler::FluidSide side(fc);
 
+  if (!opt.resume.empty())
+    spdlog::info("resumed from {} at step {}", opt.resume,
+                 read_checkpoint(opt.resume, scene, solver));
   std::unique_ptr<FluidRunFile> out;
   if (!opt.output.empty()) out = std::make_unique<FluidRunFile>(scene, opt.output);
+  auto checkpoint = [&] {
+    if (opt.checkpoint.empty()) return;
+    write_checkpoint(opt.checkpoint, scene, solver);
+    spdlog::info("checkpoint at step {}: {}", solver.steps(), opt.checkpoint);
+  };
   try {
     side.initialize();
     spdlog::info("coupled with {} membrane process(es), {} markers; {} kernel", side.peer_count(),
@@ -76,6 +85,7 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       side.send_velocities(velocity);
       lap(t0, t_interp);
       ++steps;
+      if (opt.checkpoint_every > 0 && solver.steps() % opt.checkpoint_every == 0) checkpoint();
       if (steps % scene.run.log_every == 0) {
         const double secs =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -90,6 +100,7 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     }
     if (out && scene.output.fields) out->snapshot(solver);
     side.finalize();
+    checkpoint();
     spdlog::info("{} after {} steps", g_stop ? "interrupted: run ended" : "membranes ended the run",
                  steps);
     if (steps > 0) {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #pragma once
+#include <cstdint>
 #include <string>
 
 #include "shared/scene.hpp"
@@ -11,6 +12,9 @@ struct CoupledOptions {
   int peers = 1;         ///< membrane processes
   int cells = 0;         ///< total cells over all membrane processes
   std::string output;    ///< fluid part of the run file ("" = none)
+  std::string checkpoint;             ///< checkpoint file ("" = none): written every
+  std::int64_t checkpoint_every = 0;  ///< ... this many steps (0: only when the run ends)
+  std::string resume;                 ///< start from this checkpoint ("" = from rest)
 };
 
 /// Serves membrane programs until they end the run; returns the process exit code.

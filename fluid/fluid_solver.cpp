@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/fluid_solver.hpp"
 
+#include <stdexcept>
+
 #include "fluid/bounce_back.hpp"
 #include "fluid/periodic_ghosts.hpp"
 
@@ -83,6 +85,23 @@ void FluidSolver::step() {
   velocity_current_ = ff;
   ++steps_;
   if (controller_) force_y_ = controller_->update(mean_velocity()[1]);
+}
+
+FluidSolver::Memory FluidSolver::memory() const {
+  return {steps_, force_y_, applied_force_y_, controller_ ? controller_->integral() : 0.0, sums_};
+}
+
+void FluidSolver::restore(const std::vector<double>& populations, const Memory& m) {
+  if (populations.size() != f_.size())
+    throw std::invalid_argument(
+        "FluidSolver::restore: population count does not match the lattice");
+  f_ = populations;
+  steps_ = m.steps;
+  force_y_ = m.force_y;
+  applied_force_y_ = m.applied_force_y;
+  if (controller_) controller_->restore(m.controller_integral, m.force_y);
+  sums_ = m.sums;
+  velocity_current_ = false;
 }
 
 std::array<double, 3> FluidSolver::mean_velocity() const {

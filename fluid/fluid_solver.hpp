@@ -63,6 +63,16 @@ class FluidSolver {
   /// Per-node relaxation time (created filled with tau on first call).
   double* tau_field();
 
+  /// Everything a restart needs besides the populations (checkpoints, fluid/checkpoint.hpp).
+  struct Memory {
+    std::int64_t steps = 0;
+    double force_y = 0, applied_force_y = 0, controller_integral = 0;
+    FlowSums sums;
+  };
+  Memory memory() const;
+  /// Restores a checkpoint: populations (padded SoA, as populations()) and memory.
+  void restore(const std::vector<double>& populations, const Memory& m);
+
   /// Current post-collision populations (SoA, stride lattice().padded_size()).
   const double* populations() const { return f_.data(); }
   double* populations() {

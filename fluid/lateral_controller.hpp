@@ -15,6 +15,12 @@ class LateralController {
   double update(double mean_uy);
   double force() const { return force_; }
   void set_force(double f) { force_ = integral_ = f; }
+  /// The controller's memory, for checkpoints.
+  double integral() const { return integral_; }
+  void restore(double integral, double force) {
+    integral_ = integral;
+    force_ = force;
+  }
 
  private:
   double mobility_;

@@ -22,6 +22,7 @@
 #include "coupler/membrane_side.hpp"
 #include "coupler/scene_identity.hpp"
 #include "membrane/column_tracker.hpp"
+#include "membrane/run_checkpoint.hpp"
 #include "shared/h5file.hpp"
 
 namespace dld::membrane {
@@ -106,8 +107,43 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     for (int k = 0; k < cells.cell_count(); ++k) c.push_back(cells.centroid(k) * dx_um);
     return c;
   };
-  ColumnTracker tracker(facts.lambda_um, facts.row_shift_um, centroids_um());
+  // Resuming: the cells' nodes and the samples so far come from the checkpoint, and the tracker
+  // replays the samples from the cells' starts.
+  const RunCheckpoint expected{0,  scene.hash, first, cells.cell_count(), cells.nodes_per_cell(),
+                               {}, {}};
+  std::int64_t offset = 0;
   std::vector<double> rows;
+  if (!a.resume.empty()) {
+    RunCheckpoint c = read_run_checkpoint(a.resume, expected);
+    cells.positions() = c.positions;
+    rows = std::move(c.rows);
+    offset = c.step;
+    spdlog::info("resumed from {} at step {}", a.resume, offset);
+  }
+  const std::size_t width = 1 + 4 * static_cast<std::size_t>(cells.cell_count());
+  auto row_centroids = [&](std::size_t r) {
+    std::vector<Eigen::Vector3d> c;
+    for (int k = 0; k < cells.cell_count(); ++k) {
+      const double* v = &rows[r * width + 1 + 4 * static_cast<std::size_t>(k)];
+      c.emplace_back(v[0], v[1], v[2]);
+    }
+    return c;
+  };
+  ColumnTracker tracker(facts.lambda_um, facts.row_shift_um,
+                        rows.empty() ? centroids_um() : row_centroids(0));
+  for (std::size_t r = 1; r < rows.size() / width; ++r) tracker.update(row_centroids(r));
+  double done_at_start = 0;
+  for (int k = 0; k < cells.cell_count(); ++k)
+    done_at_start = k == 0 ? tracker.fractional_columns(k)
+                           : std::min(done_at_start, tracker.fractional_columns(k));
+  auto checkpoint = [&](std::int64_t step) {
+    if (a.checkpoint.empty()) return;
+    RunCheckpoint c = expected;
+    c.step = step;
+    c.positions = cells.positions();
+    c.rows = rows;
+    write_run_checkpoint(a.checkpoint, c);
+  };
   auto sample = [&](std::int64_t step) {
     rows.push_back(static_cast<double>(step));
     const auto c = centroids_um();
@@ -128,14 +164,14 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     for (int k = 0; k < cells.cell_count(); ++k)
       done = k == 0 ? tracker.fractional_columns(k) : std::min(done, tracker.fractional_columns(k));
     std::string eta;
-    if (a.pillars > 0 && done > 0.05)
-      eta = fmt::format("  ETA {:.0f} s", secs * (a.pillars - done) / done);
+    if (a.pillars > 0 && done - done_at_start > 0.05)
+      eta = fmt::format("  ETA {:.0f} s", secs * (a.pillars - done) / (done - done_at_start));
     std::string modes;
     for (int k = 0; k < cells.cell_count() && k < 4; ++k)
       modes += fmt::format(" {}:{}", first + k, to_string(tracker.mode(k)));
     spdlog::info("step {:>9}  pillars passed {:.2f}{}  {:.1f} steps/s{}  modes{}", step, done,
                  a.pillars > 0 ? fmt::format("/{}", a.pillars) : std::string(),
-                 static_cast<double>(step) / secs, eta, modes);
+                 static_cast<double>(step - offset) / secs, eta, modes);
   };
   auto summary = [&] {
     for (int k = 0; k < cells.cell_count(); ++k)
@@ -152,8 +188,8 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
                  total);
     Points force;
     std::vector<double> u(static_cast<std::size_t>(3 * cells.node_count()));
-    sample(0);
-    std::int64_t s = 0;
+    if (rows.empty()) sample(0);
+    std::int64_t s = offset;
     std::string reason = "step limit reached";
     for (; s < a.steps && !g_stop; ++s) {
       cells.compute_forces(force);
@@ -191,11 +227,13 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
           last_flush = Clock::now();
         }
       }
+      if (a.checkpoint_every > 0 && (s + 1) % a.checkpoint_every == 0) checkpoint(s + 1);
       if ((s + 1) % scene.run.log_every == 0) progress(s + 1);
     }
     if (g_stop) reason = "interrupted";
     side.finalize();
     finish();
+    checkpoint(s);
     spdlog::info("ran {} steps: {}", s, reason);
     summary();
     return 0;

@@ -10,12 +10,15 @@ namespace dld::membrane {
 struct CoupledArgs {
   std::string endpoint;       ///< the fluid's base endpoint (dld-fluid --serve)
   int peer = 0, peers = 1;    ///< this process's index and the number of membrane processes
-  std::int64_t steps = 1000;  ///< steps to run, then end the run
+  std::int64_t steps = 1000;  ///< end the run at this step (counted from the run's start)
   std::int64_t sample_every = 100;
   std::string output;  ///< cell trajectories (HDF5); "" = none
   int pillars = 0;     ///< end the run once every cell has passed this many columns (0: off)
   bool stop_when_mode_certain = false;  ///< end the run once every cell's mode is certain
   double flush_every_s = 30;            ///< wall seconds between rewrites of the output file
+  std::string checkpoint;               ///< checkpoint file ("" = none), written when the run ends
+  std::int64_t checkpoint_every = 0;    ///< and every this many steps (0: only at the end)
+  std::string resume;                   ///< start from this checkpoint; `steps` stays the last step
 };
 
 /// Runs this process's share of the scene's cells against dld-fluid; returns the exit code.

@@ -113,6 +113,13 @@ int main(int argc, char** argv) {
   app.add_option("--flush-every", coupled.flush_every_s,
                  "coupled mode: wall seconds between rewrites of the trajectory file")
       ->check(CLI::PositiveNumber);
+  app.add_option(
+      "--checkpoint", coupled.checkpoint,
+      "coupled mode: checkpoint file, written when the run ends (and see --checkpoint-every)");
+  app.add_option("--checkpoint-every", coupled.checkpoint_every,
+                 "coupled mode: steps between checkpoints (0: only at the end)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--resume", coupled.resume, "coupled mode: start from this checkpoint");
   app.add_option("-o,--output", output,
                  "HDF5 output of standalone runs (default: the scene's output.file)");
   app.add_flag("-v,--verbose", verbose, "debug logging");

@@ -10,12 +10,14 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
 #include "coupler/launcher/process.hpp"
+#include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
 #include "shared/scene.hpp"
 
@@ -45,6 +47,42 @@ std::string last_line(const std::string& path) {
   return last;
 }
 
+/// Step of a checkpoint file, or -1 if it is missing or unreadable.
+std::int64_t checkpoint_step(const std::string& path, const std::string& group) {
+  if (!fs::exists(path)) return -1;
+  try {
+    return static_cast<std::int64_t>(
+        dld::H5File(path, dld::H5File::Mode::kRead).read_attribute_number(group, "step"));
+  } catch (const dld::InputError&) {
+    return -1;
+  }
+}
+
+/// For each (file, group), the file (itself or its .prev) at the newest step all of them have.
+std::vector<std::string> common_checkpoint(
+    const std::vector<std::pair<std::string, std::string>>& sides) {
+  std::vector<std::int64_t> candidates;
+  for (const auto& [path, group] : sides)
+    for (const std::string& p : {path, path + ".prev"})
+      candidates.push_back(checkpoint_step(p, group));
+  std::sort(candidates.rbegin(), candidates.rend());
+  for (const std::int64_t step : candidates) {
+    if (step < 0) break;
+    std::vector<std::string> chosen;
+    for (const auto& [path, group] : sides)
+      for (const std::string& p : {path, path + ".prev"})
+        if (checkpoint_step(p, group) == step) {
+          chosen.push_back(p);
+          break;
+        }
+    if (chosen.size() == sides.size()) return chosen;
+  }
+  std::string found;
+  for (const auto& [path, group] : sides)
+    found += fmt::format(" {} (step {})", path, checkpoint_step(path, group));
+  throw dld::InputError("--resume: no checkpoint step shared by every program:" + found);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -54,6 +92,8 @@ int main(int argc, char** argv) {
   std::int64_t steps = 1000;
   bool dry = false, until_certain = false;
   int pillars = 0;
+  std::int64_t checkpoint_every = 0;
+  bool resume = false;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
   app.add_option("--membrane", membrane,
                  "membrane program: cells (dld-membrane, the scene's [[cells.cell]]) or tracers "
@@ -67,6 +107,11 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--until-mode-certain", until_certain,
                "cells: end the run once every cell's mode (zigzag/displacement) is certain");
+  app.add_option("--checkpoint-every", checkpoint_every,
+                 "cells: steps between checkpoints (one is always written when the run ends)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--resume", resume,
+               "cells: continue from the newest checkpoint step that every program has");
   app.add_flag("--dry-run", dry, "validate the scene and print the commands, start nothing");
   CLI11_PARSE(app, argc, argv);
 
@@ -92,10 +137,28 @@ int main(int argc, char** argv) {
         throw dld::InputError(fmt::format("{}: {} [[cells.cell]] for {} membrane processes",
                                           scene_path, cells, peers));
     }
+    // Checkpoints: <stem>-fluid.ckpt.h5 and <stem>-cells-k.ckpt.h5 (each keeps its previous one as
+    // .prev); resuming takes the newest step every program has.
+    const std::string fluid_ckpt = stem + "-fluid.ckpt.h5";
+    auto cell_ckpt = [&](int k) { return fmt::format("{}-cells-{}.ckpt.h5", stem, k); };
+    std::vector<std::string> resume_from(static_cast<std::size_t>(peers) + 1);
+    if (resume) {
+      if (!with_cells)
+        throw dld::InputError("--resume: only runs with --membrane cells checkpoint");
+      std::vector<std::pair<std::string, std::string>> sides{{fluid_ckpt, "/fluid"}};
+      for (int k = 0; k < peers; ++k) sides.emplace_back(cell_ckpt(k), "/membrane");
+      const auto chosen = common_checkpoint(sides);
+      for (std::size_t i = 0; i < chosen.size(); ++i) resume_from[i] = chosen[i];
+    }
     std::vector<std::vector<std::string>> commands;
     commands.push_back({program("dld-fluid", DLD_FLUID_EXE), scene_path, "--serve", endpoint,
                         "--peers", std::to_string(peers), "--cells", std::to_string(cells), "-o",
                         stem + "-fluid.h5"});
+    if (with_cells) {
+      commands[0].insert(commands[0].end(), {"--checkpoint", fluid_ckpt, "--checkpoint-every",
+                                             std::to_string(checkpoint_every)});
+      if (resume) commands[0].insert(commands[0].end(), {"--resume", resume_from[0]});
+    }
     for (int k = 0; k < peers; ++k) {
       std::vector<std::string> c{with_cells ? program("dld-membrane", DLD_MEMBRANE_EXE)
                                             : program("dld-tracers", DLD_TRACERS_EXE),
@@ -113,6 +176,11 @@ int main(int argc, char** argv) {
       if (!with_cells) c.insert(c.end(), {"--count", std::to_string(tracers)});
       if (with_cells && pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(pillars)});
       if (with_cells && until_certain) c.push_back("--until-mode-certain");
+      if (with_cells) {
+        c.insert(c.end(), {"--checkpoint", cell_ckpt(k), "--checkpoint-every",
+                           std::to_string(checkpoint_every)});
+        if (resume) c.insert(c.end(), {"--resume", resume_from[static_cast<std::size_t>(k) + 1]});
+      }
       commands.push_back(c);
     }
     for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
