@@ -191,14 +191,23 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     if (rows.empty()) sample(0);
     std::int64_t s = offset;
     std::string reason = "step limit reached";
+    // Wall time per step: membrane work (forces, moving the nodes) and the exchange, which includes
+    // waiting for the fluid's step.
+    double t_membrane = 0, t_exchange = 0;
+    const std::int64_t s0 = s;
     for (; s < a.steps && !g_stop; ++s) {
+      const auto t0 = Clock::now();
       cells.compute_forces(force);
       const std::span<const double> f(force.data(), static_cast<std::size_t>(force.size()));
+      const auto t1 = Clock::now();
       if (!side.advance(cells.flat_positions(), f, u)) {
         reason = "the fluid ended the run";
         break;
       }
+      const auto t2 = Clock::now();
       cells.move(std::span<const double>(u), 1.0);
+      t_membrane += std::chrono::duration<double>(t1 - t0 + (Clock::now() - t2)).count();
+      t_exchange += std::chrono::duration<double>(t2 - t1).count();
       if ((s + 1) % a.sample_every == 0) {
         sample(s + 1);
         for (int k = 0; k < cells.cell_count(); ++k) {
@@ -235,6 +244,10 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     finish();
     checkpoint(s);
     spdlog::info("ran {} steps: {}", s, reason);
+    if (s > s0)
+      spdlog::info("time per step [ms]: membrane {:.3f}, exchange and fluid {:.3f}",
+                   1e3 * t_membrane / static_cast<double>(s - s0),
+                   1e3 * t_exchange / static_cast<double>(s - s0));
     summary();
     return 0;
   } catch (const coupler::CouplerError& e) {

@@ -86,7 +86,7 @@ std::vector<std::string> common_checkpoint(
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"dld-run: one coupled run of a scene (fluid + membrane programs over ipc)"};
+  CLI::App app{"dld-run: one coupled run of a scene (fluid + membrane programs over ipc or tcp)"};
   std::string scene_path, membrane = "tracers";
   int tracers = 16;
   std::int64_t steps = 1000;
@@ -125,7 +125,13 @@ int main(int argc, char** argv) {
     // ipc paths are limited to ~100 bytes: keep the socket in a short private directory.
     const fs::path sock_dir = fs::temp_directory_path() / fmt::format("dld-run-{}", getpid());
     fs::create_directories(sock_dir);
-    const std::string endpoint = "ipc://" + (sock_dir / "fluid").string();
+    // coupling.transport: ipc (default) or tcp over loopback, one port per membrane process from a
+    // per-launcher base (tcp across machines: start dld-fluid --serve and dld-membrane --connect by
+    // hand, docs/protocol.md).
+    const std::string endpoint =
+        scene.coupling.transport == "tcp"
+            ? fmt::format("tcp://127.0.0.1:{}", 20000 + (getpid() % 2000) * 16)
+            : "ipc://" + (sock_dir / "fluid").string();
     const std::string stem = (run_dir / out.stem()).string();
 
     const bool with_cells = membrane == "cells";
