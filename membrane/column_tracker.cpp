@@ -27,20 +27,21 @@ ColumnTracker::ColumnTracker(double lambda_um, double row_shift_um,
       d_(row_shift_um),
       start_(std::move(starts)),
       now_(start_),
-      y_after_first_(start_.size(), std::numeric_limits<double>::quiet_NaN()),
-      x_after_first_(start_.size(), std::numeric_limits<double>::quiet_NaN()) {}
+      crossing_y_(start_.size()) {}
 
 void ColumnTracker::update(const std::vector<Eigen::Vector3d>& centroids) {
   for (std::size_t k = 0; k < start_.size(); ++k) {
     const Eigen::Vector3d before = now_[k];
     now_[k] = centroids[k];
-    // Where the cell crossed one column from its start (linear between samples).
-    const double target = start_[k].x() + lambda_;
-    if (std::isnan(y_after_first_[k]) && now_[k].x() >= target) {
+    // Where the cell crossed whole columns (linear between samples; a cell moving back and forth
+    // records each column once, the first time).
+    auto& ys = crossing_y_[k];
+    while (true) {
+      const double target = start_[k].x() + static_cast<double>(ys.size() + 1) * lambda_;
+      if (now_[k].x() < target) break;
       const double span = now_[k].x() - before.x();
       const double t = span > 0 ? std::clamp((target - before.x()) / span, 0.0, 1.0) : 1.0;
-      y_after_first_[k] = before.y() + t * (now_[k].y() - before.y());
-      x_after_first_[k] = target;
+      ys.push_back(before.y() + t * (now_[k].y() - before.y()));
     }
   }
 }
@@ -61,10 +62,9 @@ int ColumnTracker::min_columns() const {
 }
 
 double ColumnTracker::shift_per_column(int k) const {
-  const auto i = static_cast<std::size_t>(k);
-  const double span = (now_[i].x() - x_after_first_[i]) / lambda_;
-  if (std::isnan(y_after_first_[i]) || span < 1.0) return std::numeric_limits<double>::quiet_NaN();
-  return (now_[i].y() - y_after_first_[i]) / span;
+  const auto& ys = crossing_y_[static_cast<std::size_t>(k)];
+  if (ys.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  return (ys.back() - ys.front()) / static_cast<double>(ys.size() - 1);
 }
 
 int ColumnTracker::columns_for_certainty() const {
@@ -75,16 +75,24 @@ int ColumnTracker::columns_for_certainty() const {
 TransportMode ColumnTracker::mode(int k) const {
   const double s = shift_per_column(k);
   if (std::isnan(s) || columns(k) < columns_for_certainty()) return TransportMode::kUndecided;
-  if (std::abs(s - d_) < 0.25 * d_) return TransportMode::kDisplacement;
-  if (std::abs(s) < 0.25 * d_) return TransportMode::kZigzag;
-  return TransportMode::kMixed;
+  return std::abs(s - d_) < std::abs(s) ? TransportMode::kDisplacement : TransportMode::kZigzag;
+}
+
+bool ColumnTracker::certain(int k) const {
+  const TransportMode m = mode(k);
+  if (m == TransportMode::kUndecided) return false;
+  const double target = m == TransportMode::kDisplacement ? d_ : 0.0;
+  return std::abs(shift_per_column(k) - target) < 0.2 * d_;
+}
+
+TransportMode ColumnTracker::final_mode(int k) const {
+  if (mode(k) == TransportMode::kUndecided) return TransportMode::kUndecided;
+  return certain(k) ? mode(k) : TransportMode::kMixed;
 }
 
 bool ColumnTracker::all_modes_certain() const {
-  for (int k = 0; k < cells(); ++k) {
-    const TransportMode m = mode(k);
-    if (m != TransportMode::kZigzag && m != TransportMode::kDisplacement) return false;
-  }
+  for (int k = 0; k < cells(); ++k)
+    if (!certain(k)) return false;
   return cells() > 0;
 }
 

@@ -168,7 +168,10 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
       eta = fmt::format("  ETA {:.0f} s", secs * (a.pillars - done) / (done - done_at_start));
     std::string modes;
     for (int k = 0; k < cells.cell_count() && k < 4; ++k)
-      modes += fmt::format(" {}:{}", first + k, to_string(tracker.mode(k)));
+      modes += fmt::format(" {}:{}{}", first + k, to_string(tracker.mode(k)),
+                           tracker.mode(k) != TransportMode::kUndecided && !tracker.certain(k)
+                               ? "?"
+                               : "");
     spdlog::info("step {:>9}  pillars passed {:.2f}{}  {:.1f} steps/s{}  modes{}", step, done,
                  a.pillars > 0 ? fmt::format("/{}", a.pillars) : std::string(),
                  static_cast<double>(step - offset) / secs, eta, modes);
@@ -178,7 +181,7 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
       spdlog::info(
           "summary: cell {}  mode {}  columns {}  lateral shift per column {:.3f} um "
           "(d = {} um)  volume change {:+.3f} %",
-          first + k, to_string(tracker.mode(k)), tracker.columns(k), tracker.shift_per_column(k),
+          first + k, to_string(tracker.final_mode(k)), tracker.columns(k), tracker.shift_per_column(k),
           facts.row_shift_um, 100 * (cells.volume(k) / v0[static_cast<std::size_t>(k)] - 1));
   };
   try {

@@ -42,10 +42,28 @@ TEST(ColumnTracker, NoNetDriftIsZigzag) {
   EXPECT_EQ(t.mode(0), TransportMode::kZigzag);
 }
 
-TEST(ColumnTracker, HalfARowShiftIsMixed) {
-  const ColumnTracker t = follow(6.0, 3.0 / kLambda, 8);
-  EXPECT_EQ(t.mode(0), TransportMode::kMixed);
+TEST(ColumnTracker, HalfARowShiftIsNotCertainAndEndsMixed) {
+  const ColumnTracker t = follow(6.0, 2.8 / kLambda, 8);
+  EXPECT_EQ(t.mode(0), TransportMode::kZigzag);  // the nearer one
+  EXPECT_FALSE(t.certain(0));
   EXPECT_FALSE(t.all_modes_certain());
+  EXPECT_EQ(t.final_mode(0), TransportMode::kMixed);
+  // Within d/5 of a mode it is certain.
+  EXPECT_TRUE(follow(6.0, 5.0 / kLambda, 8).certain(0));
+  EXPECT_FALSE(follow(6.0, 4.7 / kLambda, 8).certain(0));
+}
+
+TEST(ColumnTracker, ShiftIsTakenAtWholeColumnsNotAtTheCurrentPhase) {
+  // Displacement in steps: y jumps by d in the middle of each column. Sampled half-way through a
+  // column the current y is half a step ahead; the whole-column crossings are not.
+  const Eigen::Vector3d start(0.0, 0.0, 2.4);
+  ColumnTracker t(kLambda, 4.4, {start});
+  for (int s = 1; s <= 1000; ++s) {
+    const double x = 9.6 * kLambda * s / 1000;
+    const double c = std::floor(x / kLambda + 0.5);  // jumps at half columns
+    t.update({Eigen::Vector3d(x, 4.4 * c, 2.4)});
+  }
+  EXPECT_NEAR(t.shift_per_column(0), 4.4, 1e-9);
 }
 
 TEST(ColumnTracker, UndecidedBeforeOneZigzagPeriod) {
