@@ -220,6 +220,12 @@ std::optional<TomlSection> TomlSection::optional_section(std::string_view key) c
   return section(key);
 }
 
+const toml::table& TomlSection::raw_table(std::string_view key) const {
+  const toml::node& n = required(key);
+  if (!n.is_table()) fail(key, fmt::format("expected a table, got {}", type_name(n)));
+  return *n.as_table();
+}
+
 std::vector<TomlSection> TomlSection::sections(std::string_view key) const {
   std::vector<TomlSection> out;
   const toml::node* n = node(key);

@@ -80,6 +80,9 @@ class TomlSection {
   std::optional<TomlSection> optional_section(std::string_view key) const;
   /// Array of tables ([[key]] in TOML); empty when absent.
   std::vector<TomlSection> sections(std::string_view key) const;
+  /// A required sub-table that the caller walks itself (its keys are free-form, e.g. dotted scene
+  /// paths); the whole table counts as read.
+  const toml::table& raw_table(std::string_view key) const;
 
   /// "file:line:col: key 'a.b': <what>" as an InputError. Uses the key's own line when present,
   /// else the table's line.

@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <thread>
 
 #include "coupler/launcher/process.hpp"
@@ -29,23 +28,6 @@ void on_sigint(int) {
 }
 
 namespace fs = std::filesystem;
-
-/// Sibling program in the build tree or the install directory of dld-run.
-std::string program(const std::string& name, const std::string& build_path) {
-  const fs::path self = fs::read_symlink("/proc/self/exe").parent_path();
-  for (const fs::path& p : {self / name, fs::path(build_path)})
-    if (fs::exists(p)) return p.string();
-  throw dld::InputError(fmt::format("cannot find the program {} (looked next to dld-run and at {})",
-                                    name, build_path));
-}
-
-std::string last_line(const std::string& path) {
-  std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
-}
 
 /// Step of a checkpoint file, or -1 if it is missing or unreadable.
 std::int64_t checkpoint_step(const std::string& path, const std::string& group) {
@@ -157,17 +139,18 @@ int main(int argc, char** argv) {
       for (std::size_t i = 0; i < chosen.size(); ++i) resume_from[i] = chosen[i];
     }
     std::vector<std::vector<std::string>> commands;
-    commands.push_back({program("dld-fluid", DLD_FLUID_EXE), scene_path, "--serve", endpoint,
-                        "--peers", std::to_string(peers), "--cells", std::to_string(cells), "-o",
-                        stem + "-fluid.h5"});
+    commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), scene_path,
+                        "--serve", endpoint, "--peers", std::to_string(peers), "--cells",
+                        std::to_string(cells), "-o", stem + "-fluid.h5"});
     if (with_cells) {
       commands[0].insert(commands[0].end(), {"--checkpoint", fluid_ckpt, "--checkpoint-every",
                                              std::to_string(checkpoint_every)});
       if (resume) commands[0].insert(commands[0].end(), {"--resume", resume_from[0]});
     }
     for (int k = 0; k < peers; ++k) {
-      std::vector<std::string> c{with_cells ? program("dld-membrane", DLD_MEMBRANE_EXE)
-                                            : program("dld-tracers", DLD_TRACERS_EXE),
+      std::vector<std::string> c{with_cells
+                                     ? dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE)
+                                     : dld::coupler::find_program("dld-tracers", DLD_TRACERS_EXE),
                                  scene_path,
                                  "--connect",
                                  endpoint,
@@ -208,7 +191,7 @@ int main(int argc, char** argv) {
       for (auto& c : children) {
         if (dld::coupler::poll_child(c) && c.exit_code != 0) {
           fmt::print(stderr, "dld-run: {} stopped with exit code {}: {}\n", c.name, c.exit_code,
-                     last_line(c.log));
+                     dld::coupler::last_line(c.log));
           failed = failed ? failed : c.exit_code;
         }
         any_running = any_running || c.running;
@@ -231,10 +214,10 @@ int main(int argc, char** argv) {
       }
       if (now - last_report > std::chrono::seconds(5)) {
         fmt::print("[{:.0f} s] fluid: {}\n", std::chrono::duration<double>(now - start).count(),
-                   last_line(children[0].log));
+                   dld::coupler::last_line(children[0].log));
         // The membranes know the cells: pillars passed, ETA and modes.
         for (std::size_t k = 1; k < children.size(); ++k)
-          fmt::print("      {}: {}\n", children[k].name, last_line(children[k].log));
+          fmt::print("      {}: {}\n", children[k].name, dld::coupler::last_line(children[k].log));
         std::fflush(stdout);
         last_report = now;
       }

@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "coupler/launcher/process.hpp"
 
+#include <errno.h>
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 
 #include "shared/input_error.hpp"
 
@@ -46,6 +50,33 @@ bool poll_child(Child& c) {
 
 void signal_child(const Child& c, int sig) {
   if (c.running) kill(c.pid, sig);
+}
+
+int wait_child(Child& c) {
+  if (!c.running) return c.exit_code;
+  int status = 0;
+  while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  c.running = false;
+  c.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return c.exit_code;
+}
+
+std::string find_program(const std::string& name, const std::string& build_path) {
+  namespace fs = std::filesystem;
+  const fs::path self = fs::read_symlink("/proc/self/exe").parent_path();
+  for (const fs::path& p : {self / name, fs::path(build_path)})
+    if (fs::exists(p)) return p.string();
+  throw InputError(fmt::format("cannot find the program {} (looked next to {} and at {})", name,
+                               self.string(), build_path));
+}
+
+std::string last_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
 }
 
 }  // namespace dld::coupler

@@ -23,5 +23,12 @@ Child start_child(const std::string& name, const std::vector<std::string>& argv,
 /// Updates running/exit_code without blocking; true if the child ended in this call.
 bool poll_child(Child& c);
 void signal_child(const Child& c, int sig);
+/// Blocks until the child ends; returns its exit code (128 + signal if killed).
+int wait_child(Child& c);
+
+/// A sibling program: next to the running executable (install tree), else at `build_path`.
+std::string find_program(const std::string& name, const std::string& build_path);
+/// The last non-empty line of a text file ("" if it cannot be read): a child's latest progress.
+std::string last_line(const std::string& path);
 
 }  // namespace dld::coupler

@@ -17,52 +17,16 @@
 
 #include "shared/dld_geometry.hpp"
 #include "shared/h5file.hpp"
+#include "tests/child_process.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Process {
-  pid_t pid = -1;
-  std::string log;
-};
-
-Process spawn(const std::vector<std::string>& args, const std::string& log) {
-  Process p{fork(), log};
-  if (p.pid == 0) {
-    FILE* out = std::freopen(log.c_str(), "w", stdout);
-    (void)out;
-    dup2(fileno(stdout), fileno(stderr));
-    std::vector<char*> argv;
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    setenv("OMP_NUM_THREADS", "1", 1);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return p;
-}
-
-/// Exit code, or -1 if it did not end within `limit` (then it is killed).
-int wait_for(const Process& p, double limit_s) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  int status = 0;
-  while (std::chrono::steady_clock::now() < end) {
-    if (waitpid(p.pid, &status, WNOHANG) == p.pid)
-      return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  kill(p.pid, SIGKILL);
-  waitpid(p.pid, &status, 0);
-  return -1;
-}
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using dld::test::Process;
+using dld::test::slurp;
+using dld::test::spawn;
+using dld::test::wait_for;
 
 class TracersCoupled : public ::testing::Test {
  protected:

@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: MIT
+// dld-sweep: the runs of a study file (configs/study/study.toml: 5 Ht x 3 d x 3 Ca), K at a
+// time, each through dld-run until every cell has passed the study's pillars, then dld-analyze on
+// it; a summary table and the study's plots at the end. Resumable: finished runs (done.toml) are
+// skipped, interrupted ones continue from their last checkpoint (dld-run --resume), so no result
+// is lost or counted twice. Ctrl-C stops every running run with a checkpoint.
+#include <fmt/format.h>
+#include <signal.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "coupler/launcher/process.hpp"
+#include "coupler/launcher/study.hpp"
+#include "coupler/launcher/sweep_report.hpp"
+#include "shared/input_error.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using dld::coupler::RunState;
+using dld::coupler::StudyRun;
+
+volatile sig_atomic_t g_interrupted = 0;
+void on_sigint(int) {
+  g_interrupted = 1;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Writes the run's scene once; later starts check that the study still gives the same scene, so
+/// a resumed run never continues under changed physics.
+fs::path prepare(const StudyRun& run) {
+  fs::create_directories(run.dir);
+  const fs::path scene = run.dir / "scene.toml";
+  const std::string text = dld::coupler::scene_text(run);
+  if (fs::exists(scene)) {
+    if (slurp(scene) != text)
+      throw dld::InputError(fmt::format(
+          "run {}: {} differs from the scene the study gives now (study or template changed); "
+          "move {} away to run it afresh",
+          run.name, scene.string(), run.dir.string()));
+  } else {
+    std::ofstream(scene.string() + ".tmp") << text;
+    fs::rename(scene.string() + ".tmp", scene);
+  }
+  return scene;
+}
+
+struct Running {
+  const StudyRun* run;
+  dld::coupler::Child child;
+  std::chrono::steady_clock::time_point start;
+};
+
+/// dld-analyze on a finished run (its CSVs and plots go into the run's directory).
+int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::string& exe) {
+  std::vector<std::string> argv{exe};
+  for (const auto& e : fs::directory_iterator(run.dir)) {
+    const std::string f = e.path().filename().string();
+    if (f.rfind("run-cells-", 0) == 0 && f.size() > 3 && f.substr(f.size() - 3) == ".h5" &&
+        f.find(".ckpt") == std::string::npos)
+      argv.push_back(e.path().string());
+  }
+  argv.insert(argv.end(), {"--pillars", std::to_string(study.pillars), "-o", run.dir.string()});
+  if (!study.modes.empty()) argv.insert(argv.end(), {"--modes", study.modes.string()});
+  auto c = dld::coupler::start_child("dld-analyze", argv, (run.dir / "analysis.txt").string());
+  return dld::coupler::wait_child(c);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"dld-sweep: the runs of a study file, K at a time, resumable"};
+  std::string study_path, resolution, slurm;
+  int jobs = 1, index = -1;
+  std::vector<std::string> only;
+  bool list = false, summary_only = false, dry = false;
+  app.add_option("study", study_path, "study file (TOML), e.g. configs/study/study.toml")
+      ->required();
+  app.add_option("--resolution", resolution,
+                 "a [study.resolution.NAME] of the study file (coarser lattice and mesh)");
+  app.add_option("--jobs,-j", jobs, "runs at the same time")->check(CLI::Range(1, 1024));
+  app.add_option("--index", index, "run only the run with this index (0-based; SLURM arrays)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--only", only, "run only the runs with these names (see --list)");
+  app.add_flag("--list", list, "list the runs and their state, run nothing");
+  app.add_flag("--summary", summary_only, "only collect the summary table and plots");
+  app.add_option("--slurm", slurm, "write a SLURM job-array script to this file, run nothing");
+  app.add_flag("--dry-run", dry, "write the run scenes and print the commands, start nothing");
+  CLI11_PARSE(app, argc, argv);
+
+  try {
+    const auto study = dld::coupler::load_study(study_path);
+    if (resolution.empty()) resolution = study.default_resolution;
+    const auto runs = study.runs(resolution);
+    std::vector<const StudyRun*> chosen;
+    for (const auto& r : runs)
+      if ((index < 0 || r.index == index) &&
+          (only.empty() || std::find(only.begin(), only.end(), r.name) != only.end()))
+        chosen.push_back(&r);
+    if (index >= static_cast<int>(runs.size()))
+      throw dld::InputError(fmt::format("--index {}: the study has {} runs (0..{})", index,
+                                        runs.size(), runs.size() - 1));
+    for (const auto& n : only)
+      if (std::none_of(runs.begin(), runs.end(), [&](auto& r) { return r.name == n; }))
+        throw dld::InputError(fmt::format("--only {}: no such run (see --list)", n));
+
+    const std::string self = fs::read_symlink("/proc/self/exe").string();
+    if (!slurm.empty()) {
+      fs::create_directories(fs::absolute(study.output) / "slurm");
+      std::ofstream(slurm) << dld::coupler::slurm_script(study, resolution, runs.size(), jobs,
+                                                         self);
+      fs::permissions(slurm, fs::perms::owner_exec, fs::perm_options::add);
+      fmt::print("wrote {} ({} runs): submit with  sbatch {}\n", slurm, runs.size(), slurm);
+      return 0;
+    }
+    if (list || summary_only) {
+      if (list)
+        for (const auto& r : runs)
+          fmt::print("{:3d}  {:24s} {}\n", r.index, r.name,
+                     dld::coupler::state_name(dld::coupler::run_state(r)));
+      if (summary_only) dld::coupler::write_summary(study, runs, resolution);
+      return 0;
+    }
+
+    const std::string run_exe = dld::coupler::find_program("dld-run", DLD_RUN_EXE);
+    std::string analyze_exe;
+    try {
+      analyze_exe = dld::coupler::find_program("dld-analyze", DLD_ANALYZE_EXE);
+    } catch (const dld::InputError&) {
+      fmt::print(stderr, "dld-sweep: dld-analyze not built: runs are not analysed\n");
+    }
+    std::deque<const StudyRun*> queue;
+    int done_before = 0;
+    for (const StudyRun* r : chosen) {
+      const RunState s = dld::coupler::run_state(*r);
+      if (s == RunState::kDone) {
+        ++done_before;
+        continue;
+      }
+      queue.push_back(r);
+    }
+    fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time\n",
+               study.name, resolution.empty() ? "default resolution" : resolution, chosen.size(),
+               done_before, queue.size(), jobs);
+    signal(SIGINT, on_sigint);
+    signal(SIGTERM, on_sigint);  // SLURM's time limit: checkpoint like Ctrl-C
+    std::vector<Running> running;
+    std::vector<std::string> failed;
+    int finished = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto last_report = t0;
+    while (!queue.empty() || !running.empty()) {
+      while (!g_interrupted && !queue.empty() && static_cast<int>(running.size()) < jobs) {
+        const StudyRun* r = queue.front();
+        queue.pop_front();
+        const fs::path scene = prepare(*r);
+        const bool resume = dld::coupler::run_state(*r) == RunState::kPartial;
+        const std::int64_t steps = study.max_steps > 0 ? study.max_steps : 1000000000000LL;
+        std::vector<std::string> cmd{run_exe,
+                                     scene.string(),
+                                     "--membrane",
+                                     "cells",
+                                     "--pillars",
+                                     std::to_string(study.pillars),
+                                     "--steps",
+                                     std::to_string(steps),
+                                     "--checkpoint-every",
+                                     std::to_string(study.checkpoint_every)};
+        if (resume) cmd.push_back("--resume");
+        fmt::print("  start {} ({}): {}\n", r->name, resume ? "resuming" : "new",
+                   fmt::join(cmd, " "));
+        if (dry) continue;
+        running.push_back(
+            {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string()),
+             std::chrono::steady_clock::now()});
+      }
+      if (dry) break;
+      if (g_interrupted)
+        for (auto& x : running) dld::coupler::signal_child(x.child, SIGINT);
+      for (auto it = running.begin(); it != running.end();) {
+        if (!dld::coupler::poll_child(it->child)) {
+          ++it;
+          continue;
+        }
+        const double wall =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - it->start).count();
+        dld::coupler::record_attempt(*it->run, it->child.exit_code, wall);
+        if (it->child.exit_code == 0) {
+          const int a = analyze_exe.empty() ? -1 : analyze(*it->run, study, analyze_exe);
+          if (a > 0)
+            fmt::print(stderr, "  {}: dld-analyze failed ({}): see {}\n", it->run->name, a,
+                       (it->run->dir / "analysis.txt").string());
+          dld::coupler::mark_done(*it->run, dld::coupler::run_wall_s(*it->run));
+          ++finished;
+          fmt::print("  done {} in {:.0f} s\n", it->run->name, wall);
+        } else if (!g_interrupted) {
+          failed.push_back(it->run->name);
+          fmt::print(stderr, "  {} failed (exit {}): {}\n", it->run->name, it->child.exit_code,
+                     dld::coupler::last_line(it->child.log));
+        }
+        it = running.erase(it);
+      }
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_report > std::chrono::seconds(10) && !running.empty()) {
+        fmt::print("[{:.0f} s] sweep: {} done, {} running, {} waiting, {} failed\n",
+                   std::chrono::duration<double>(now - t0).count(), done_before + finished,
+                   running.size(), queue.size(), failed.size());
+        for (const auto& x : running)
+          fmt::print("  {}: {}\n", x.run->name,
+                     dld::coupler::last_line((x.run->dir / "run-cells-0.log").string()));
+        std::fflush(stdout);
+        last_report = now;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    if (dry) return 0;
+    if (g_interrupted) {
+      fmt::print(stderr,
+                 "dld-sweep: interrupted; the stopped runs resume from their checkpoints when "
+                 "the sweep is started again\n");
+      return 130;
+    }
+    if (index < 0) {
+      const std::string csv = dld::coupler::write_summary(study, runs, resolution);
+      const fs::path plot = fs::path(DLD_SOURCE_DIR) / "analysis" / "plot_study.py";
+      if (fs::exists(plot) && fs::exists("/usr/bin/python3")) {
+        std::vector<std::string> p{"/usr/bin/python3", plot.string(), csv, "-o",
+                                   fs::path(csv).parent_path().string()};
+        auto c = dld::coupler::start_child("plot_study", p,
+                                           (fs::path(csv).parent_path() / "plots.log").string());
+        if (dld::coupler::wait_child(c) != 0)
+          fmt::print(stderr, "dld-sweep: plot_study.py failed: see {}\n", c.log);
+      }
+    }
+    if (!failed.empty()) {
+      fmt::print(stderr, "dld-sweep: {} runs failed: {}\n", failed.size(), fmt::join(failed, " "));
+      return 1;
+    }
+    return 0;
+  } catch (const dld::InputError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: MIT
+#include "coupler/launcher/sweep_report.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace dld::coupler {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> lines(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  std::string line;
+  while (std::getline(in, line))
+    if (!line.empty()) out.push_back(line);
+  return out;
+}
+
+std::vector<std::string> cells(const std::string& csv_line) {
+  std::vector<std::string> out;
+  std::string cell;
+  std::istringstream in(csv_line);
+  while (std::getline(in, cell, ',')) out.push_back(cell);
+  return out;
+}
+
+}  // namespace
+
+RunState run_state(const StudyRun& run) {
+  if (fs::exists(run.dir / "done.toml")) return RunState::kDone;
+  for (const char* f : {"run-fluid.ckpt.h5", "run-fluid.ckpt.h5.prev"})
+    if (fs::exists(run.dir / f)) return RunState::kPartial;
+  return RunState::kWaiting;
+}
+
+const char* state_name(RunState s) {
+  switch (s) {
+    case RunState::kDone:
+      return "done";
+    case RunState::kPartial:
+      return "partial (resumes from its checkpoint)";
+    default:
+      return "waiting";
+  }
+}
+
+double run_wall_s(const StudyRun& run) {
+  double total = 0;
+  for (const auto& l : lines(run.dir / "attempts.csv")) {
+    const auto c = cells(l);
+    if (c.size() >= 3 && c[0] != "finished_unix_s") total += std::stod(c[2]);
+  }
+  return total;
+}
+
+void record_attempt(const StudyRun& run, int exit_code, double wall_s) {
+  const fs::path p = run.dir / "attempts.csv";
+  const bool fresh = !fs::exists(p);
+  std::ofstream out(p, std::ios::app);
+  if (fresh) out << "finished_unix_s,exit_code,wall_s\n";
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  out << std::chrono::duration_cast<std::chrono::seconds>(now).count() << "," << exit_code << ","
+      << fmt::format("{:.1f}", wall_s) << "\n";
+}
+
+void mark_done(const StudyRun& run, double wall_s) {
+  const fs::path tmp = run.dir / "done.toml.tmp";
+  std::ofstream(tmp) << fmt::format("run = \"{}\"\nwall_s = {:.1f}\n", run.name, wall_s);
+  fs::rename(tmp, run.dir / "done.toml");
+}
+
+std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
+                          const std::string& resolution) {
+  const fs::path dir = study.output / (resolution.empty() ? std::string("default") : resolution);
+  fs::create_directories(dir);
+  const fs::path csv = dir / "summary.csv";
+  std::string header = "run";
+  for (const auto& a : study.axes) header += "," + a.name;
+  header += ",wall_s";
+  std::string analysis_header;
+  std::vector<std::string> rows;
+  int missing = 0;
+  for (const auto& run : runs) {
+    if (run_state(run) != RunState::kDone) continue;
+    std::string row = run.name;
+    for (const double v : run.coordinates) row += fmt::format(",{:g}", v);
+    row += fmt::format(",{:.1f}", run_wall_s(run));
+    const auto a = lines(run.dir / "run-summary.csv");
+    if (a.size() >= 2) {
+      if (analysis_header.empty()) analysis_header = a[0];
+      row += "," + a[1];
+    } else {
+      ++missing;
+    }
+    rows.push_back(row);
+  }
+  {
+    std::ofstream out(csv.string() + ".tmp");
+    out << header << (analysis_header.empty() ? "" : "," + analysis_header) << "\n";
+    for (const auto& r : rows) out << r << "\n";
+  }
+  fs::rename(csv.string() + ".tmp", csv);
+  fmt::print("sweep summary ({} of {} runs finished{}): {}\n", rows.size(), runs.size(),
+             missing ? fmt::format(", {} without analysis", missing) : "", csv.string());
+  const auto head = cells(header + (analysis_header.empty() ? "" : "," + analysis_header));
+  for (const auto& h : head) fmt::print("{:>14.14} ", h);
+  fmt::print("\n");
+  for (const auto& r : rows) {
+    for (const auto& c : cells(r)) fmt::print("{:>14.14} ", c);
+    fmt::print("\n");
+  }
+  return csv.string();
+}
+
+std::string slurm_script(const Study& study, const std::string& resolution, std::size_t runs,
+                         int jobs, const std::string& sweep_exe) {
+  const std::string study_file = fs::absolute(study.file).string();
+  const std::string res = resolution.empty() ? "" : " --resolution " + resolution;
+  const fs::path logs = fs::absolute(study.output) / "slurm";
+  return fmt::format(
+      "#!/bin/bash\n"
+      "# Written by dld-sweep: the study {name} ({runs} runs{resnote}) as a SLURM job array,\n"
+      "# at most {jobs} runs at once. Each task runs one run of the study and resumes it from its\n"
+      "# checkpoint if an earlier task was cut short (resubmit the same script: finished runs are\n"
+      "# skipped). When all tasks are done:  {exe} {study} --summary{res}\n"
+      "#SBATCH --job-name=dld-{name}\n"
+      "#SBATCH --array=0-{last}%{jobs}\n"
+      "#SBATCH --ntasks=1\n"
+      "#SBATCH --cpus-per-task=2\n"
+      "#SBATCH --output={logs}/%x-%a.log\n"
+      "set -euo pipefail\n"
+      "mkdir -p {logs}\n"
+      "cd {cwd}\n"
+      "export OMP_NUM_THREADS=${{SLURM_CPUS_PER_TASK:-1}}\n"
+      "exec {exe} {study} --index \"$SLURM_ARRAY_TASK_ID\"{res}\n",
+      fmt::arg("name", study.name), fmt::arg("runs", runs),
+      fmt::arg("resnote", resolution.empty() ? "" : ", resolution " + resolution),
+      fmt::arg("jobs", jobs), fmt::arg("exe", sweep_exe), fmt::arg("study", study_file),
+      fmt::arg("res", res), fmt::arg("last", runs - 1), fmt::arg("logs", logs.string()),
+      fmt::arg("cwd", fs::current_path().string()));
+}
+
+}  // namespace dld::coupler

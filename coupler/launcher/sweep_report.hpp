@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// What dld-sweep leaves besides the runs: the state of each run on disk, the study's summary table
+// (one row per finished run: its axis values, wall time and the analysis figures) and a SLURM
+// job-array script that runs the same study on a cluster.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "coupler/launcher/study.hpp"
+
+namespace dld::coupler {
+
+enum class RunState { kWaiting, kPartial, kDone };
+
+/// done: <dir>/done.toml exists; partial: a checkpoint exists; else waiting.
+RunState run_state(const StudyRun& run);
+const char* state_name(RunState s);
+/// Wall time of all attempts of a run so far (seconds), from <dir>/attempts.csv.
+double run_wall_s(const StudyRun& run);
+/// Appends one attempt (exit code, wall time) to <dir>/attempts.csv.
+void record_attempt(const StudyRun& run, int exit_code, double wall_s);
+/// Marks a run finished (written last, through a temporary file and a rename).
+void mark_done(const StudyRun& run, double wall_s);
+
+/// Writes <output>/<resolution>/summary.csv from the finished runs' <dir>/run-summary.csv (written
+/// by dld-analyze) and prints it as a table; returns the CSV path.
+std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
+                          const std::string& resolution);
+
+/// A SLURM job-array script: task i runs `dld-sweep STUDY --resolution R --index i`, at most
+/// `jobs` at once; the summary is made afterwards with `dld-sweep STUDY --summary`.
+std::string slurm_script(const Study& study, const std::string& resolution, std::size_t runs,
+                         int jobs, const std::string& sweep_exe);
+
+}  // namespace dld::coupler

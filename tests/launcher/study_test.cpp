@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: MIT
+// Study files (coupler/launcher/study.hpp): the runs are the Cartesian product of the axes with
+// each run's scene keys set, and every kind of bad study file stops with its named error.
+#include "coupler/launcher/study.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "shared/input_error.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class StudyFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("dld-study-" + std::to_string(getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "base.toml") << "[scene]\nname = \"base\"\n[geometry]\nrow_shift_um = "
+                                         "1.0\n[output]\nfile = \"x.h5\"\n";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& body) {
+    const auto p = dir_ / "study.toml";
+    std::ofstream(p) << "[study]\nname = \"s\"\nscene = \"base.toml\"\noutput = \""
+                     << (dir_ / "out").string() << "\"\n"
+                     << body;
+    return p.string();
+  }
+  /// The InputError message of loading `body` (and listing its runs at `resolution`).
+  std::string error(const std::string& body, const std::string& resolution = "") {
+    try {
+      (void)dld::coupler::load_study(write(body)).runs(resolution);
+    } catch (const dld::InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  }
+  fs::path dir_;
+};
+
+const char* kTwoAxes =
+    "[[study.axis]]\nname = \"Ht\"\nvalues = [8.0, 45.6]\n[study.axis.set]\n\"cells.count\" = "
+    "[3, 17]\n"
+    "[[study.axis]]\nname = \"d\"\nvalues = [2.0, 4.4, 6.0]\n[study.axis.set]\n"
+    "\"geometry.row_shift_um\" = [2.0, 4.4, 6.0]\n\"membrane.volume.modulus_rel\" = [1.0, 2.0, "
+    "3.0]\n"
+    "[study.resolution.coarse]\n\"lattice.dx_um\" = 0.8\n";
+
+TEST_F(StudyFile, RunsAreTheProductOfTheAxesWithTheirKeysSet) {
+  const auto study = dld::coupler::load_study(write(kTwoAxes));
+  const auto runs = study.runs("coarse");
+  ASSERT_EQ(runs.size(), 6u);
+  // First axis slowest.
+  EXPECT_EQ(runs[0].name, "Ht8-d2");
+  EXPECT_EQ(runs[5].name, "Ht45.6-d6");
+  const auto& r = runs[4];  // Ht 45.6, d 4.4
+  EXPECT_EQ(r.coordinates, (std::vector<double>{45.6, 4.4}));
+  EXPECT_EQ(r.scene.at_path("cells.count").value<std::int64_t>(), 17);
+  EXPECT_DOUBLE_EQ(*r.scene.at_path("geometry.row_shift_um").value<double>(), 4.4);
+  EXPECT_DOUBLE_EQ(*r.scene.at_path("membrane.volume.modulus_rel").value<double>(), 2.0);
+  EXPECT_DOUBLE_EQ(*r.scene.at_path("lattice.dx_um").value<double>(), 0.8);
+  EXPECT_EQ(*r.scene.at_path("scene.name").value<std::string>(), "Ht45.6-d4.4");
+  EXPECT_EQ(r.dir, dir_ / "out" / "coarse" / "Ht45.6-d4.4");
+  EXPECT_EQ(*r.scene.at_path("output.file").value<std::string>(), (r.dir / "run.h5").string());
+  // Without a resolution the template's own values stay.
+  EXPECT_FALSE(study.runs("")[0].scene.at_path("lattice.dx_um"));
+  // The written scene reads back to the same table.
+  const auto back = toml::parse(dld::coupler::scene_text(r));
+  EXPECT_EQ(back, r.scene);
+}
+
+TEST_F(StudyFile, MissingKeyIsNamed) {
+  EXPECT_NE(error("[[study.axis]]\nvalues = [1.0]\n[study.axis.set]\n\"a.b\" = [1]\n")
+                .find("study.axis[0].name': missing"),
+            std::string::npos);
+}
+
+TEST_F(StudyFile, ArrayOfWrongLengthIsNamed) {
+  const auto e = error(
+      "[[study.axis]]\nname = \"d\"\nvalues = [1.0, 2.0]\n[study.axis.set]\n"
+      "\"geometry.row_shift_um\" = [1.0]\n");
+  EXPECT_NE(e.find("geometry.row_shift_um\": expected an array of 2 values"), std::string::npos)
+      << e;
+}
+
+TEST_F(StudyFile, UnknownKeyIsNamed) {
+  const auto e = error(std::string(kTwoAxes) + "[study.extra]\nx = 1\n");
+  EXPECT_NE(e.find("study.extra.x"), std::string::npos) << e;
+}
+
+TEST_F(StudyFile, UnknownResolutionIsNamed) {
+  const auto e = error(kTwoAxes, "fine");
+  EXPECT_NE(e.find("no resolution 'fine' (known: coarse)"), std::string::npos) << e;
+}
+
+TEST_F(StudyFile, RepeatedValuesAndBadNamesAreRejected) {
+  EXPECT_NE(error("[[study.axis]]\nname = \"d\"\nvalues = [1.0, 1.0]\n[study.axis.set]\n\"a\" = "
+                  "[1, 2]\n")
+                .find("distinct"),
+            std::string::npos);
+  EXPECT_NE(error("[[study.axis]]\nname = \"a b\"\nvalues = [1.0]\n[study.axis.set]\n\"a\" = "
+                  "[1]\n")
+                .find("without spaces"),
+            std::string::npos);
+  EXPECT_NE(error("").find("at least one [[study.axis]]"), std::string::npos);
+}
+
+TEST_F(StudyFile, KeyThroughANonTableIsNamed) {
+  const auto e = error(
+      "[[study.axis]]\nname = \"d\"\nvalues = [1.0]\n[study.axis.set]\n"
+      "\"geometry.row_shift_um.x\" = [1.0]\n");
+  EXPECT_NE(e.find("'row_shift_um' is not a table"), std::string::npos) << e;
+}
+
+TEST_F(StudyFile, MissingTemplateIsNamed) {
+  fs::remove(dir_ / "base.toml");
+  const auto e = error(kTwoAxes);
+  EXPECT_NE(e.find("base.toml: no such scene file"), std::string::npos) << e;
+}
+
+}  // namespace

@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: MIT
+// dld-sweep end to end on a two-run study (one red blood cell, dx = 0.8 um, 600 steps each): a
+// sweep interrupted mid-run (Ctrl-C) and started again gives the same trajectories, to 1e-12, as
+// an uninterrupted sweep; finished runs are not run again; a changed study is refused.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "shared/h5file.hpp"
+#include "tests/child_process.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using dld::test::slurp;
+using dld::test::spawn;
+using dld::test::wait_for;
+
+class Sweep : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("dld-sweep-" + std::to_string(getpid()));
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "base.toml")
+        << "[scene]\nname = \"base\"\n[geometry]\npillar_radius_um = 10.0\n"
+           "pillar_spacing_um = 32.0\ndepth_um = 4.8\nrow_shift_um = 4.4\n"
+           "[lattice]\ndx_um = 0.8\n[drive]\nreynolds = 0.1\n[run]\nthreads = 1\n"
+           "[output]\nfields = false\nfile = \"x.h5\"\n[coupling]\ntimeout_s = 20\n"
+           "[membrane]\nradius_um = 3.9\nmesh_faces = 500\nmodels = [\"skalak\", \"bending\", "
+           "\"volume\"]\ncapillary_number = 0.2\nmesh_cache = \""
+        << (dir_ / "meshes").string()
+        << "\"\n[membrane.skalak]\narea_modulus_ref_lu = 0.5\n[membrane.bending]\nmodulus_rel = "
+           "2.5e-3\n[membrane.volume]\nmodulus_rel = 100.0\n[membrane.contact]\nrange_um = 0.8\n"
+           "strength_rel = 1.0\n[[cells.cell]]\ncentre_um = [3.0, 3.0, 2.4]\n";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  /// A study of two runs (d = 4.4 and 6.0 um) writing under <dir>/<out>.
+  std::string study(const std::string& out, int steps = 600) {
+    const auto p = dir_ / (out + ".toml");
+    std::ofstream(p) << "[study]\nname = \"" << out << "\"\nscene = \"base.toml\"\noutput = \""
+                     << (dir_ / out).string() << "\"\npillars = 20\ncheckpoint_every = 200\n"
+                     << "max_steps = " << steps
+                     << "\n[[study.axis]]\nname = \"d\"\nvalues = [4.4, 6.0]\n"
+                        "[study.axis.set]\n\"geometry.row_shift_um\" = [4.4, 6.0]\n";
+    return p.string();
+  }
+  int sweep(const std::string& study_file, const std::string& log, double limit_s = 300) {
+    auto p = spawn({DLD_SWEEP_EXE, study_file, "--jobs", "2"}, (dir_ / log).string());
+    return wait_for(p, limit_s);
+  }
+  static std::vector<double> samples(const fs::path& run_dir) {
+    dld::H5File f((run_dir / "run-cells-0.h5").string(), dld::H5File::Mode::kRead);
+    return f.read("/cells/samples");
+  }
+  fs::path dir_;
+};
+
+TEST_F(Sweep, InterruptedSweepResumesToTheResultsOfAnUninterruptedOne) {
+  ASSERT_EQ(sweep(study("straight"), "straight.log"), 0) << slurp((dir_ / "straight.log").string());
+
+  const std::string resumed = study("resumed");
+  const fs::path runs = dir_ / "resumed" / "default";
+  auto p = spawn({DLD_SWEEP_EXE, resumed, "--jobs", "2"}, (dir_ / "resumed-1.log").string());
+  // Interrupt once both runs are under way (each wrote its step-200 checkpoint).
+  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(200);
+  while (std::chrono::steady_clock::now() < limit &&
+         !(fs::exists(runs / "d4.4" / "run-fluid.ckpt.h5") &&
+           fs::exists(runs / "d6" / "run-fluid.ckpt.h5")))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(p.pid, SIGINT);
+  ASSERT_EQ(wait_for(p, 120), 130) << slurp(p.log);
+  EXPECT_FALSE(fs::exists(runs / "d4.4" / "done.toml") && fs::exists(runs / "d6" / "done.toml"))
+      << "the interruption came too late to test anything";
+
+  ASSERT_EQ(sweep(resumed, "resumed-2.log"), 0) << slurp((dir_ / "resumed-2.log").string());
+  EXPECT_NE(slurp((dir_ / "resumed-2.log").string()).find("(resuming)"), std::string::npos);
+  for (const char* run : {"d4.4", "d6"}) {
+    const auto a = samples(dir_ / "straight" / "default" / run);
+    const auto b = samples(runs / run);
+    ASSERT_EQ(a.size(), b.size()) << run << ": every sample once, none lost or repeated";
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-12) << run << " " << i;
+    EXPECT_GT(std::abs(a[a.size() - 4] - a[1]), 0.1) << "the cell moved";
+    EXPECT_TRUE(fs::exists(runs / run / "done.toml"));
+  }
+  // Both runs finished: a third start runs nothing; the summary lists both.
+  ASSERT_EQ(sweep(resumed, "resumed-3.log", 60), 0);
+  EXPECT_NE(slurp((dir_ / "resumed-3.log").string()).find("2 done, 0 to run"), std::string::npos)
+      << slurp((dir_ / "resumed-3.log").string());
+  const std::string summary = slurp((runs / "summary.csv").string());
+  EXPECT_NE(summary.find("\nd4.4,4.4,"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\nd6,6,"), std::string::npos) << summary;
+}
+
+TEST_F(Sweep, AChangedStudyIsNotResumedUnderTheOldRuns) {
+  const std::string s = study("changed", 200);
+  ASSERT_EQ(sweep(s, "changed-1.log"), 0) << slurp((dir_ / "changed-1.log").string());
+  fs::remove(dir_ / "changed" / "default" / "d6" / "done.toml");
+  std::ofstream(dir_ / "base.toml", std::ios::app)
+      << "[[cells.cell]]\ncentre_um = [3.0, 20.0, 2.4]\n";
+  EXPECT_EQ(sweep(s, "changed-2.log", 60), 2);
+  EXPECT_NE(slurp((dir_ / "changed-2.log").string()).find("d6/scene.toml differs"),
+            std::string::npos)
+      << slurp((dir_ / "changed-2.log").string());
+}
+
+}  // namespace
