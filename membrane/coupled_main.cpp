@@ -21,9 +21,9 @@
 #include "coupler/error.hpp"
 #include "coupler/membrane_side.hpp"
 #include "coupler/scene_identity.hpp"
-#include "membrane/column_tracker.hpp"
 #include "membrane/run_checkpoint.hpp"
 #include "membrane/stability_guard.hpp"
+#include "shared/column_tracker.hpp"
 #include "shared/h5file.hpp"
 
 namespace dld::membrane {

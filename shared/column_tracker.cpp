@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "membrane/column_tracker.hpp"
+#include "shared/column_tracker.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace dld::membrane {
+namespace dld {
 
 std::string to_string(TransportMode m) {
   switch (m) {
@@ -96,4 +96,4 @@ bool ColumnTracker::all_modes_certain() const {
   return cells() > 0;
 }
 
-}  // namespace dld::membrane
+}  // namespace dld

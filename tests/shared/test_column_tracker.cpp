@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Columns passed and the mode rule of membrane/column_tracker.hpp on synthetic centroid paths.
-#include "membrane/column_tracker.hpp"
+// Columns passed and the mode rule of shared/column_tracker.hpp on synthetic centroid paths.
+#include "shared/column_tracker.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-namespace dld::membrane {
+namespace dld {
 namespace {
 
 constexpr double kLambda = 32.0;
@@ -86,4 +86,4 @@ TEST(ColumnTracker, FirstColumnTransientIsLeftOut) {
 }
 
 }  // namespace
-}  // namespace dld::membrane
+}  // namespace dld

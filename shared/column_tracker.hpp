@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-namespace dld::membrane {
+namespace dld {
 
 enum class TransportMode { kUndecided, kZigzag, kDisplacement, kMixed };
 std::string to_string(TransportMode m);
@@ -50,4 +50,4 @@ class ColumnTracker {
   std::vector<std::vector<double>> crossing_y_;  ///< device y at columns 1, 2, ... of each cell
 };
 
-}  // namespace dld::membrane
+}  // namespace dld

@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: MIT
+// The cells run files written by dld-membrane (`<stem>-cells-K.h5`, one per membrane process):
+// /cells/samples rows = step, then per cell centroid x y z [um, device frame, unwrapped] and
+// volume [um^3]; attributes on /cells name the run's geometry. The files of one run are merged by
+// their first_cell attribute.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dld::analysis {
+
+/// One cell's centroid path in device coordinates [um], one entry per saved sample.
+struct CellTrack {
+  int id = 0;  ///< global cell index (first_cell of its file + column)
+  std::vector<double> step;
+  std::vector<std::array<double, 3>> position;  ///< [um, device frame]
+  std::vector<double> volume;                   ///< [um^3]
+};
+
+struct Run {
+  std::string stem;  ///< input path without "-cells-K.h5" (names the outputs)
+  std::string scene_name;
+  double lambda_um = 0;     ///< pillar spacing lambda
+  double row_shift_um = 0;  ///< row shift d
+  double dt_s = 0;
+  std::optional<double> capillary_number;
+  std::vector<std::string> files;
+  std::vector<CellTrack> cells;  ///< ordered by id
+};
+
+/// `dir/name-cells-3.h5` -> `dir/name`; a path without that ending loses only ".h5".
+std::string run_stem(const std::string& path);
+
+/// Reads one run file; any missing or malformed part is an InputError naming the file and what
+/// was expected.
+Run read_run_file(const std::string& path);
+
+/// Merges the files of one run (same stem, geometry and scene; cells must not repeat).
+Run merge_runs(std::vector<Run> parts);
+
+/// read_run_file on each path, then merge_runs.
+Run read_run(const std::vector<std::string>& paths);
+
+}  // namespace dld::analysis

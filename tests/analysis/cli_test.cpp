@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+// The dld-analyze program on synthetic run files (CSVs, PNGs, exit codes, error lines) and
+// analysis/plot_study.py on a tiny synthetic sweep.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "synthetic.hpp"
+
+namespace dld::analysis {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::kLambda;
+using testing::track;
+using testing::write_run_file;
+
+struct Result {
+  int status;
+  std::string output;  // stdout and stderr
+};
+
+Result run(const std::string& command, const std::string& dir) {
+  const std::string log = dir + "/output.txt";
+  const int s = std::system((command + " > " + log + " 2>&1").c_str());
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  return {WIFEXITED(s) ? WEXITSTATUS(s) : -1, text.str()};
+}
+
+/// The command for the run of two files, evaluated at 10 pillars against displacement.
+std::string fmt_command(const std::string& dir, bool plots) {
+  return std::string(DLD_ANALYZE_EXE) + " " + dir + "/run-cells-0.h5 " + dir +
+         "/run-cells-1.h5 --pillars 10 --expected-mode displacement -o " + dir + "/out" +
+         (plots ? "" : " --no-plots");
+}
+
+bool have_matplotlib() {
+  return std::system("/usr/bin/python3 -c 'import matplotlib, h5py' > /dev/null 2>&1") == 0;
+}
+
+std::vector<std::string> lines(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+TEST(DldAnalyze, WritesTablesAndPlotsForARunOfTwoFiles) {
+  const std::string dir = testing::temp_dir("cli");
+  // Two displaced cells in one file, one horizontal cell (p_fD = d / lambda) in the other.
+  const double d = 4.4;
+  const auto displaced = [d](double c) { return d * c + testing::wiggle(c); };
+  write_run_file(
+      dir + "/run-cells-0.h5",
+      {track(0, 3.0, 1.0, 12.5, displaced, 600), track(1, 5.0, 8.0, 12.5, displaced, 600)},
+      {.first_cell = 0, .d = d});
+  write_run_file(dir + "/run-cells-1.h5",
+                 {track(
+                     2, 4.0, 12.0, 12.5, [](double) { return 0.0; }, 600)},
+                 {.first_cell = 2, .d = d});
+  const bool plots = have_matplotlib();
+  const Result r = run(fmt_command(dir, plots), dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("expected mode: displacement (given by --expected-mode)"),
+            std::string::npos)
+      << r.output;
+  const auto cells = lines(dir + "/out/run-cells.csv");
+  ASSERT_EQ(cells.size(), 4u);  // header + 3 cells
+  EXPECT_EQ(cells[0].rfind("cell,", 0), 0u);
+  const auto summary = lines(dir + "/out/run-summary.csv");
+  ASSERT_EQ(summary.size(), 2u);
+  // Mean p_fD over the cells: (0 + 0 + d/lambda) / 3.
+  std::stringstream row(summary[1]);
+  std::vector<std::string> fields;
+  for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
+  std::stringstream head(summary[0]);
+  std::size_t col = 0;
+  for (std::string f; std::getline(head, f, ',') && f != "p_f_mean";) ++col;
+  ASSERT_LT(col, fields.size()) << summary[1];
+  EXPECT_NEAR(std::stod(fields[col]), d / kLambda / 3, 1e-6);
+  EXPECT_EQ(lines(dir + "/out/run-outlets.csv").size(), 6u);  // header, O1..O4, outside
+  if (!plots) GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib or h5py: PNGs not checked";
+  EXPECT_GT(fs::file_size(dir + "/out/run-trajectories.png"), 1000u);
+  EXPECT_GT(fs::file_size(dir + "/out/run-outlets.png"), 1000u);
+}
+
+TEST(DldAnalyze, BadInputIsOneErrorLineAndANonZeroExit) {
+  const std::string dir = testing::temp_dir("cli-bad");
+  write_run_file(dir + "/ok-cells-0.h5",
+                 {track(
+                     0, 3.0, 1.0, 3.5, [](double c) { return testing::wiggle(c); }, 100)},
+                 {});
+  const std::string exe = DLD_ANALYZE_EXE;
+  const auto expect_error = [&](const std::string& args, const std::string& words) {
+    const Result r = run(exe + " " + args + " --no-plots -o " + dir, dir);
+    EXPECT_NE(r.status, 0) << args;
+    EXPECT_NE(r.output.find("dld-analyze: error: "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;  // one line
+  };
+  expect_error(dir + "/none-cells-0.h5", dir + "/none-cells-0.h5: no such file");
+  expect_error(dir + "/ok-cells-0.h5 --pillars 0", "--pillars");
+  expect_error(dir + "/ok-cells-0.h5 --pillars many", "--pillars");
+  expect_error(dir + "/ok-cells-0.h5 --expected-mode sideways", "--expected-mode");
+  expect_error(dir + "/ok-cells-0.h5 --modes " + dir + "/nomap.toml", "nomap.toml");
+}
+
+TEST(PlotStudy, DrawsFailureAgainstHaematocritFromSummaries) {
+  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
+  const std::string dir = testing::temp_dir("study");
+  std::ofstream(dir + "/study.csv")
+      << "haematocrit_percent,row_shift_um,capillary_number,p_f_mean,p_f_std,pillar_spacing_um\n"
+         "8.0,4.4,0.2,0.01,0.005,32\n16.1,4.4,0.2,0.03,0.01,32\n8.0,6.0,0.5,0.02,,32\n"
+         "16.1,6.0,0.5,,,32\n";
+  const Result r = run("/usr/bin/python3 " DLD_SOURCE_DIR "/analysis/plot_study.py " + dir +
+                           "/study.csv -o " + dir + "/study.png",
+                       dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir + "/study.png"), 1000u);
+  std::ofstream(dir + "/bad.csv") << "row_shift_um,p_f_mean\n4.4,0.1\n";
+  const Result bad = run("/usr/bin/python3 " DLD_SOURCE_DIR "/analysis/plot_study.py " + dir +
+                             "/bad.csv -o " + dir + "/bad.png",
+                         dir);
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("missing column(s) haematocrit_percent"), std::string::npos)
+      << bad.output;
+}
+
+}  // namespace
+}  // namespace dld::analysis

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: MIT
+// Reading and merging cells run files (the layout of membrane/coupled_main.cpp), and the one-line
+// errors for bad input.
+#include "analysis/run_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "shared/input_error.hpp"
+#include "synthetic.hpp"
+
+namespace dld::analysis {
+namespace {
+
+using testing::FileFacts;
+using testing::track;
+using testing::write_run_file;
+
+CellTrack line(int id, double y0, double slope) {
+  return track(
+      id, 2.0, y0, 5.0, [slope](double c) { return slope * c; }, 50);
+}
+
+/// The InputError message of f(), or "" if it does not throw one.
+template <class F>
+std::string error_of(F f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RunFile, StemDropsTheCellsSuffix) {
+  EXPECT_EQ(run_stem("runs/a-b-cells-12.h5"), "runs/a-b");
+  EXPECT_EQ(run_stem("runs/other.h5"), "runs/other");
+}
+
+TEST(RunFile, ReadsWhatWasWritten) {
+  const std::string dir = testing::temp_dir("read");
+  const std::string path = dir + "/run-cells-0.h5";
+  write_run_file(path, {line(0, 1.0, 4.4), line(1, 7.0, 0.0)}, {.first_cell = 0, .d = 4.4});
+  const analysis::Run r = read_run_file(path);
+  EXPECT_EQ(r.stem, dir + "/run");
+  EXPECT_EQ(r.scene_name, "synthetic");
+  EXPECT_DOUBLE_EQ(r.lambda_um, 32.0);
+  EXPECT_DOUBLE_EQ(r.row_shift_um, 4.4);
+  ASSERT_TRUE(r.capillary_number.has_value());
+  EXPECT_DOUBLE_EQ(*r.capillary_number, 0.5);
+  ASSERT_EQ(r.cells.size(), 2u);
+  EXPECT_EQ(r.cells[1].id, 1);
+  ASSERT_EQ(r.cells[1].position.size(), 51u);
+  EXPECT_DOUBLE_EQ(r.cells[0].position.back()[1], 1.0 + 5 * 4.4);
+  EXPECT_DOUBLE_EQ(r.cells[1].position.back()[0], 2.0 + 5 * 32.0);
+  EXPECT_DOUBLE_EQ(r.cells[1].step[3], 300.0);
+}
+
+TEST(RunFile, CapillaryNumberIsOptional) {
+  const std::string path = testing::temp_dir("no-ca") + "/run-cells-0.h5";
+  write_run_file(path, {line(0, 1.0, 0.0)}, {.with_ca = false});
+  EXPECT_FALSE(read_run_file(path).capillary_number.has_value());
+}
+
+TEST(RunFile, MergesTheFilesOfOneRunByFirstCell) {
+  const std::string dir = testing::temp_dir("merge");
+  write_run_file(dir + "/run-cells-0.h5", {line(0, 1.0, 4.4), line(1, 5.0, 4.4)},
+                 {.first_cell = 0});
+  write_run_file(dir + "/run-cells-1.h5", {line(2, 9.0, 0.0)}, {.first_cell = 2});
+  const analysis::Run r = read_run({dir + "/run-cells-1.h5", dir + "/run-cells-0.h5"});
+  ASSERT_EQ(r.cells.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(r.cells[static_cast<std::size_t>(k)].id, k);
+  EXPECT_DOUBLE_EQ(r.cells[2].position.front()[1], 9.0);
+  EXPECT_DOUBLE_EQ(r.cells[0].position.front()[1], 1.0);
+  EXPECT_EQ(r.files.size(), 2u);
+}
+
+TEST(RunFile, RefusesFilesOfDifferentRunsOrRepeatedCells) {
+  const std::string dir = testing::temp_dir("merge-bad");
+  write_run_file(dir + "/run-cells-0.h5", {line(0, 1.0, 0.0)}, {.first_cell = 0, .d = 4.4});
+  write_run_file(dir + "/run-cells-1.h5", {line(1, 1.0, 0.0)}, {.first_cell = 1, .d = 6.0});
+  write_run_file(dir + "/run-cells-2.h5", {line(0, 1.0, 0.0)}, {.first_cell = 0, .d = 4.4});
+  EXPECT_NE(error_of([&] {
+              read_run({dir + "/run-cells-0.h5", dir + "/run-cells-1.h5"});
+            }).find("row_shift_um"),
+            std::string::npos);
+  EXPECT_NE(error_of([&] {
+              read_run({dir + "/run-cells-0.h5", dir + "/run-cells-2.h5"});
+            }).find("cell 0 is also in"),
+            std::string::npos);
+}
+
+TEST(RunFile, BadInputIsOneLineNamingTheFileAndWhatWasExpected) {
+  const std::string dir = testing::temp_dir("bad");
+  const auto expect_error = [](const std::string& path, const std::string& words) {
+    const std::string e = error_of([&] { read_run_file(path); });
+    EXPECT_NE(e.find(path), std::string::npos) << e;
+    EXPECT_NE(e.find(words), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  };
+  expect_error(dir + "/missing-cells-0.h5", "no such file");
+  std::ofstream(dir + "/text-cells-0.h5") << "not hdf5\n";
+  expect_error(dir + "/text-cells-0.h5", "cannot open HDF5 file");
+  {
+    H5File h(dir + "/empty-cells-0.h5", H5File::Mode::kCreate);
+    h.write("/other", std::vector<double>{1.0});
+  }
+  expect_error(dir + "/empty-cells-0.h5", "/cells/samples");
+  // Header says 2 cells, the table holds one.
+  write_run_file(dir + "/cols-cells-0.h5", {line(0, 1.0, 0.0)}, {});
+  {
+    H5File h(dir + "/cols-cells-0.h5", H5File::Mode::kReadWrite);
+    h.attribute("/cells", "count", std::int64_t{2});
+  }
+  expect_error(dir + "/cols-cells-0.h5", "expected (rows >= 1, 9)");
+  // A missing attribute.
+  {
+    H5File h(dir + "/attr-cells-0.h5", H5File::Mode::kCreate);
+    h.write("/cells/samples", std::vector<double>{0, 1, 2, 3, 4}.data(), {1, 5});
+    h.attribute("/cells", "count", std::int64_t{1});
+    h.attribute("/cells", "first_cell", std::int64_t{0});
+    h.attribute("/cells", "dt_s", 1e-7);
+  }
+  expect_error(dir + "/attr-cells-0.h5", "pillar_spacing_um");
+  write_run_file(dir + "/frame-cells-0.h5", {line(0, 1.0, 0.0)}, {});
+  {
+    H5File h(dir + "/frame-cells-0.h5", H5File::Mode::kReadWrite);
+    h.attribute("/cells", "frame", std::string("box"));
+  }
+  expect_error(dir + "/frame-cells-0.h5", "expected 'device'");
+}
+
+}  // namespace
+}  // namespace dld::analysis
