@@ -43,7 +43,7 @@ ExpectedMode lookup_expected_mode(const std::vector<DiluteModeEntry>& map, const
                                   double d_um, std::optional<double> capillary_number) {
   if (!capillary_number)
     return {TransportMode::kUndecided,
-            "unknown: the run file has no capillary_number to look up in " + file};
+            "the run file has no capillary_number to look up in " + file};
   const auto same = [](double a, double b) { return std::abs(a - b) <= 1e-6 * std::abs(b); };
   for (const auto& e : map) {
     if (!same(d_um, e.row_shift_um) || !same(*capillary_number, e.capillary_number)) continue;
@@ -52,10 +52,10 @@ ExpectedMode lookup_expected_mode(const std::vector<DiluteModeEntry>& map, const
                     e.source.empty() ? "" : " (" + e.source + ")");
     return {e.mode, e.mode == TransportMode::kZigzag || e.mode == TransportMode::kDisplacement
                         ? where
-                        : fmt::format("unknown: {} in {}", to_string(e.mode), where)};
+                        : fmt::format("{} in {}", to_string(e.mode), where)};
   }
-  return {TransportMode::kUndecided, fmt::format("unknown: no entry for d = {} um, Ca = {} in {}",
-                                                 d_um, *capillary_number, file)};
+  return {TransportMode::kUndecided,
+          fmt::format("no entry for d = {} um, Ca = {} in {}", d_um, *capillary_number, file)};
 }
 
 }  // namespace dld::analysis

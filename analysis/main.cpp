@@ -38,9 +38,8 @@ ExpectedMode expected_mode(const Options& o, const Run& run) {
   if (file.empty()) {
     file = locate_source_file("configs/study/dilute_modes.toml", DLD_SOURCE_DIR);
     if (file.empty())
-      return {
-          TransportMode::kUndecided,
-          "unknown: configs/study/dilute_modes.toml not found; give --expected-mode or --modes"};
+      return {TransportMode::kUndecided,
+              "configs/study/dilute_modes.toml not found; give --expected-mode or --modes"};
   }
   return lookup_expected_mode(read_dilute_modes(file), file, run.row_shift_um,
                               run.capillary_number);

@@ -76,6 +76,16 @@ def plot_outlets(outlets, summary, png):
            color=[colour[r["correct"]] for r in rows], edgecolor="k")
     for i, r in enumerate(rows):
         ax.text(i, float(r["fraction"]), f"{r['count']}", ha="center", va="bottom")
+    # Empty bars are invisible: the outlet names carry the colour too, with their y range [um].
+    ax.set_xticks(range(len(rows)))
+    ax.set_xticklabels([f"{r['outlet']}\n[{float(r['y_low_um']):.0f}, {float(r['y_high_um']):.0f}]"
+                        for r in rows], fontsize=8)
+    for label, r in zip(ax.get_xticklabels(), rows):
+        label.set_color(colour[r["correct"]] if r["correct"] else "k")
+    outside = [r for r in outlets if r["outlet"] == "outside"]
+    if outside and int(outside[0]["count"]) > 0:
+        ax.text(0.98, 0.95, f"outside the outlets: {outside[0]['count']}", transform=ax.transAxes,
+                ha="right", va="top", fontsize=8)
     ax.set_ylim(0, 1.1)
     ax.set_ylabel("fraction of cells")
     known = summary["expected_mode"] != "unknown"
