@@ -50,7 +50,8 @@ def plot_trajectories(files, cells, summary, png):
     y0 = np.mean([float(c["y0_um"]) for c in cells]) / lam
     xmax = max(float(np.max(x)) for _, x, _ in tracks) / lam
     xs = np.array([x0, max(xmax, x0 + 1)])
-    ax.plot(xs, y0 + (d / lam) * (xs - x0), "k--", lw=1, label=f"array inclination d/lambda = {d / lam:.4f}")
+    ax.plot(xs, y0 + (d / lam) * (xs - x0), "k--", lw=1,
+            label=f"array inclination d/lambda = {d / lam:.4f}")
     ax.plot(xs, [y0, y0], "k:", lw=1, label="horizontal")
     ends = [(float(c["x0_um"]) / lam + int(c["pillars"]), float(c["y_end_um"]) / lam)
             for c in cells if c["y_end_um"]]
