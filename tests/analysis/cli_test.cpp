@@ -50,7 +50,9 @@ bool have_matplotlib() {
 std::vector<std::string> lines(const std::string& path) {
   std::ifstream in(path);
   std::vector<std::string> out;
-  for (std::string l; std::getline(in, l);) out.push_back(l);
+  for (std::string l; std::getline(in, l);) {
+    out.push_back(l);
+  }
   return out;
 }
 
@@ -81,14 +83,20 @@ TEST(DldAnalyze, WritesTablesAndPlotsForARunOfTwoFiles) {
   // Mean p_fD over the cells: (0 + 0 + d/lambda) / 3.
   std::stringstream row(summary[1]);
   std::vector<std::string> fields;
-  for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
+  for (std::string f; std::getline(row, f, ',');) {
+    fields.push_back(f);
+  }
   std::stringstream head(summary[0]);
   std::size_t col = 0;
-  for (std::string f; std::getline(head, f, ',') && f != "p_f_mean";) ++col;
+  for (std::string f; std::getline(head, f, ',') && f != "p_f_mean";) {
+    ++col;
+  }
   ASSERT_LT(col, fields.size()) << summary[1];
   EXPECT_NEAR(std::stod(fields[col]), d / kLambda / 3, 1e-6);
   EXPECT_EQ(lines(dir + "/out/run-outlets.csv").size(), 6u);  // header, O1..O4, outside
-  if (!plots) GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib or h5py: PNGs not checked";
+  if (!plots) {
+    GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib or h5py: PNGs not checked";
+  }
   EXPECT_GT(fs::file_size(dir + "/out/run-trajectories.png"), 1000u);
   EXPECT_GT(fs::file_size(dir + "/out/run-outlets.png"), 1000u);
 }
@@ -117,7 +125,9 @@ TEST(DldAnalyze, BadInputIsOneErrorLineAndANonZeroExit) {
 }
 
 TEST(PlotStudy, DrawsFailureAgainstHaematocritFromSummaries) {
-  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
+  if (!have_matplotlib()) {
+    GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
+  }
   const std::string dir = testing::temp_dir("study");
   std::ofstream(dir + "/study.csv")
       << "haematocrit_percent,row_shift_um,capillary_number,p_f_mean,p_f_std,pillar_spacing_um\n"
