@@ -32,15 +32,16 @@ struct Options {
 };
 
 ExpectedMode expected_mode(const Options& o, const Run& run) {
-  if (!o.expected_mode.empty())
+  if (!o.expected_mode.empty()) {
     return {parse_expected_mode(o.expected_mode, "--expected-mode"), "given by --expected-mode"};
+  }
   std::string file = o.modes_file;
   if (file.empty()) {
     file = locate_source_file("configs/study/dilute_modes.toml", DLD_SOURCE_DIR);
-    if (file.empty())
-      return {
-          TransportMode::kUndecided,
-          "unknown: configs/study/dilute_modes.toml not found; give --expected-mode or --modes"};
+    if (file.empty()) {
+      return {TransportMode::kUndecided,
+              "configs/study/dilute_modes.toml not found; give --expected-mode or --modes"};
+    }
   }
   return lookup_expected_mode(read_dilute_modes(file), file, run.row_shift_um,
                               run.capillary_number);
@@ -69,21 +70,27 @@ int plot(const Options& o, const Run& run, const std::vector<std::string>& csvs,
                                 (dir / (base + "-outlets.png")).string()};
   argv.insert(argv.end(), run.files.begin(), run.files.end());
   const int status = run_program(argv);
-  if (status != 0)
+  if (status != 0) {
     std::fprintf(stderr, "dld-analyze: error: %s %s failed (exit %d): no plots\n", kPython,
                  script.c_str(), status);
+  }
   return status;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   CLI::App app("dld-analyze: failure probabilities and outlet counts of a run (SPEC section 7)");
   Options o;
-  app.add_option("files", o.files, "cells run files <stem>-cells-K.h5 of one run")->required();
+  app.add_option("files", o.files, "cells run files <stem>-cells-K.h5 of one run");
   app.add_option("-o,--output-dir", o.out_dir, "directory for the CSVs and PNGs");
   app.add_option("--pillars", o.pillars, "evaluate at N pillars (columns) from each cell's start")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            const bool whole = !v.empty() && v.size() < 9 &&
+                               v.find_first_not_of("0123456789") == std::string::npos &&
+                               std::stoi(v) >= 1;
+            return whole ? std::string() : "'" + v + "' is not a whole number >= 1";
+          },
+          "N >= 1"));
   app.add_option("--expected-mode", o.expected_mode,
                  "zigzag or displacement (default: from the dilute-limit map)");
   app.add_option("--modes", o.modes_file,
@@ -98,16 +105,33 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    if (!o.expected_mode.empty()) parse_expected_mode(o.expected_mode, "--expected-mode");
+    if (!o.expected_mode.empty()) {
+      parse_expected_mode(o.expected_mode, "--expected-mode");
+    }
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "dld-analyze: error: %s\n", e.what());
+    return 2;
+  }
+  if (o.files.empty()) {
+    std::fprintf(stderr,
+                 "dld-analyze: error: no run file given: expected FILE.h5... (the "
+                 "<stem>-cells-K.h5 files of one run)\n");
+    return 2;
+  }
+  try {
     const Run run = read_run(o.files);
     const RunAnalysis a = analyze_run(run, o.pillars, expected_mode(o, run));
     std::fputs(format_report(run, a).c_str(), stdout);
     const std::string base = std::filesystem::path(run.stem).filename().string();
     const auto csvs = write_csvs(run, a, o.out_dir, base);
-    for (const auto& c : csvs) std::printf("wrote %s\n", c.c_str());
+    for (const auto& c : csvs) {
+      std::printf("wrote %s\n", c.c_str());
+    }
     std::fflush(stdout);
     if (!o.no_plots) {
-      if (plot(o, run, csvs, base) != 0) return 3;
+      if (plot(o, run, csvs, base) != 0) {
+        return 3;
+      }
       std::printf("wrote %s-trajectories.png and %s-outlets.png in %s\n", base.c_str(),
                   base.c_str(), o.out_dir.c_str());
     }
@@ -115,5 +139,16 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::fprintf(stderr, "dld-analyze: error: %s\n", e.what());
     return 1;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // not an input error: still one line, never a crash
+    std::fprintf(stderr, "dld-analyze: error: %s\n", e.what());
+    return 4;
   }
 }

@@ -50,7 +50,8 @@ def plot_trajectories(files, cells, summary, png):
     y0 = np.mean([float(c["y0_um"]) for c in cells]) / lam
     xmax = max(float(np.max(x)) for _, x, _ in tracks) / lam
     xs = np.array([x0, max(xmax, x0 + 1)])
-    ax.plot(xs, y0 + (d / lam) * (xs - x0), "k--", lw=1, label=f"array inclination d/lambda = {d / lam:.4f}")
+    ax.plot(xs, y0 + (d / lam) * (xs - x0), "k--", lw=1,
+            label=f"array inclination d/lambda = {d / lam:.4f}")
     ax.plot(xs, [y0, y0], "k:", lw=1, label="horizontal")
     ends = [(float(c["x0_um"]) / lam + int(c["pillars"]), float(c["y_end_um"]) / lam)
             for c in cells if c["y_end_um"]]
@@ -76,6 +77,16 @@ def plot_outlets(outlets, summary, png):
            color=[colour[r["correct"]] for r in rows], edgecolor="k")
     for i, r in enumerate(rows):
         ax.text(i, float(r["fraction"]), f"{r['count']}", ha="center", va="bottom")
+    # Empty bars are invisible: the outlet names carry the colour too, with their y range [um].
+    ax.set_xticks(range(len(rows)))
+    ax.set_xticklabels([f"{r['outlet']}\n[{float(r['y_low_um']):.0f}, {float(r['y_high_um']):.0f}]"
+                        for r in rows], fontsize=8)
+    for label, r in zip(ax.get_xticklabels(), rows):
+        label.set_color(colour[r["correct"]] if r["correct"] else "k")
+    outside = [r for r in outlets if r["outlet"] == "outside"]
+    if outside and int(outside[0]["count"]) > 0:
+        ax.text(0.98, 0.95, f"outside the outlets: {outside[0]['count']}", transform=ax.transAxes,
+                ha="right", va="top", fontsize=8)
     ax.set_ylim(0, 1.1)
     ax.set_ylabel("fraction of cells")
     known = summary["expected_mode"] != "unknown"

@@ -11,11 +11,6 @@ import math
 import sys
 from collections import defaultdict
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-
 COLUMNS = ["haematocrit_percent", "row_shift_um", "capillary_number", "p_f_mean", "p_f_std",
            "pillar_spacing_um"]
 
@@ -51,8 +46,13 @@ def main():
     shifts = sorted({d for d, _ in groups})
     if not shifts:
         sys.exit(f"plot_study.py: error: {a.csv}: no row with a failure probability")
+    import matplotlib  # only now: the checks above answer without it
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
     fig, axes = plt.subplots(1, len(shifts), figsize=(4.5 * len(shifts), 4), squeeze=False,
-                             sharey=True)
+                             sharex=True, sharey=True)
     for ax, d in zip(axes[0], shifts):
         lam = None
         for (dd, ca), pts in sorted(groups.items()):
@@ -63,13 +63,14 @@ def main():
             ax.errorbar([p[0] for p in pts], [p[1] for p in pts],
                         yerr=[0 if math.isnan(p[2]) else p[2] for p in pts], marker="o",
                         capsize=3, label=f"Ca = {ca:g}")
-        ax.axhline(d / lam, color="k", ls="--", lw=1, label=f"ceiling d/lambda = {d / lam:.3f}")
+        ax.axhline(d / lam, color="k", ls="--", lw=1,
+                   label=f"p_fD ceiling d/lambda = {d / lam:.3f}")
         ax.axhline(0, color="0.5", lw=0.5)
         ax.set_title(f"d = {d:g} um")
         ax.set_xlabel("Ht [%]")
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("failure probability")
+    axes[0][0].set_ylabel("failure probability (p_fZ or p_fD, mean +- std)")
     fig.tight_layout()
     fig.savefig(a.output, dpi=120)
     print(f"plot: {a.output}")

@@ -23,27 +23,39 @@ std::string csv_number(double v) {
 
 std::string csv_text(const std::string& s) {
   std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  for (char c : s) {
+    q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  }
   return q + "\"";
 }
 
 void write_file(const std::filesystem::path& p, const std::string& text) {
   std::ofstream out(p);
   out << text;
-  if (!out) throw InputError(fmt::format("{}: cannot write", p.string()));
+  if (!out) {
+    throw InputError(fmt::format("{}: cannot write", p.string()));
+  }
 }
 
 }  // namespace
 
 std::string failure_name(const ExpectedMode& expected) {
-  if (expected.mode == TransportMode::kZigzag) return "p_fZ";
-  if (expected.mode == TransportMode::kDisplacement) return "p_fD";
+  if (expected.mode == TransportMode::kZigzag) {
+    return "p_fZ";
+  }
+  if (expected.mode == TransportMode::kDisplacement) {
+    return "p_fD";
+  }
   return "p_f";
 }
 
 bool correct_outlet(const ExpectedMode& expected, int outlet) {
-  if (expected.mode == TransportMode::kZigzag) return outlet == 1 || outlet == 2;
-  if (expected.mode == TransportMode::kDisplacement) return outlet == 3 || outlet == 4;
+  if (expected.mode == TransportMode::kZigzag) {
+    return outlet == 1 || outlet == 2;
+  }
+  if (expected.mode == TransportMode::kDisplacement) {
+    return outlet == 3 || outlet == 4;
+  }
   return false;
 }
 
@@ -56,9 +68,13 @@ std::string format_report(const Run& run, const RunAnalysis& a) {
       run.capillary_number ? fmt::format("{}", *run.capillary_number) : std::string("not given"));
   s += fmt::format("expected mode: {} ({})\n",
                    a.expected.known() ? to_string(a.expected.mode) : "unknown", a.expected.source);
-  if (!a.expected.known()) s += "no failure probability: the expected mode is not known\n";
+  if (!a.expected.known()) {
+    s += "no failure probability: the expected mode is not known\n";
+  }
   s += fmt::format("evaluated at N = {} pillars from each cell's start\n", a.pillars_requested);
-  for (const auto& n : a.notes) s += "note: " + n + "\n";
+  for (const auto& n : a.notes) {
+    s += "note: " + n + "\n";
+  }
   const std::string pf = failure_name(a.expected);
   s += fmt::format("{:>5} {:>8} {:>15} {:>12} {:>8} {:>10} {:>10} {:>9} {:>8}\n", "cell", "columns",
                    "shift/col [um]", "mode", "pillars", "y0 [um]", "y(N) [um]", pf, "outlet");
@@ -69,25 +85,28 @@ std::string format_report(const Run& run, const RunAnalysis& a) {
                      r.pillars > 0 ? fmt::format("{:.3f}", r.y_end) : "-",
                      r.p_f ? fmt::format("{:.4f}", *r.p_f) : "-", outlet_name(a.outlet_of_cell[k]));
   }
-  if (a.expected.known())
+  if (a.expected.known()) {
     s += fmt::format(
         "{} over {} cells: mean {:.4f} +- {} (standard deviation); ceiling of p_fD: "
         "d/lambda = {:.4f}\n",
         pf, a.p_f.n, a.p_f.mean,
         std::isfinite(a.p_f.std) ? fmt::format("{:.4f}", a.p_f.std) : "n/a (one cell)",
         run.row_shift_um / run.lambda_um);
+  }
   s += fmt::format(
       "outlets after {} columns (inlet band [{}, {}] um, outlets span [{:.1f}, {:.1f}] um):",
       a.outlet_pillars, a.bins.y_in, a.bins.y_in + run.lambda_um, a.bins.edges.front(),
       a.bins.edges.back());
-  for (int o = 1; o <= 4; ++o)
+  for (int o = 1; o <= 4; ++o) {
     s += fmt::format(
         "  O{} {:.3f}{}", o, a.outlets.fraction(o),
         a.expected.known() ? (correct_outlet(a.expected, o) ? " (correct)" : " (wrong)") : "");
+  }
   s += "\n";
-  if (a.outlets.count[0] + a.outlets.count[5] > 0)
+  if (a.outlets.count[0] + a.outlets.count[5] > 0) {
     s += fmt::format("outside the outlets: {} below O1, {} above O4\n", a.outlets.count[0],
                      a.outlets.count[5]);
+  }
   return s;
 }
 
@@ -96,8 +115,9 @@ std::vector<std::string> write_csvs(const Run& run, const RunAnalysis& a, const 
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec)
+  if (ec) {
     throw InputError(fmt::format("{}: cannot create output directory ({})", dir, ec.message()));
+  }
   const fs::path root(dir);
   const std::string pf = failure_name(a.expected);
 
@@ -129,12 +149,13 @@ std::vector<std::string> write_csvs(const Run& run, const RunAnalysis& a, const 
                   csv_number(a.outlets.fraction(0) + a.outlets.fraction(5)));
 
   std::string outlets = "outlet,y_low_um,y_high_um,count,fraction,correct\n";
-  for (int o = 1; o <= 4; ++o)
+  for (int o = 1; o <= 4; ++o) {
     outlets += fmt::format(
         "O{},{},{},{},{},{}\n", o, csv_number(a.bins.edges[static_cast<std::size_t>(o - 1)]),
         csv_number(a.bins.edges[static_cast<std::size_t>(o)]),
         a.outlets.count[static_cast<std::size_t>(o)], csv_number(a.outlets.fraction(o)),
         a.expected.known() ? (correct_outlet(a.expected, o) ? "yes" : "no") : "");
+  }
   outlets += fmt::format("outside,,,{},{},{}\n", a.outlets.count[0] + a.outlets.count[5],
                          csv_number(a.outlets.fraction(0) + a.outlets.fraction(5)),
                          a.expected.known() ? "no" : "");

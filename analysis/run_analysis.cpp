@@ -23,20 +23,24 @@ RunAnalysis analyze_run(const Run& run, int pillars, const ExpectedMode& expecte
       a.notes.push_back(fmt::format(
           "cell {}: advanced {:.2f} columns, less than one: not evaluated", r.id, r.advance));
     } else {
-      if (r.pillars < pillars)
+      if (r.pillars < pillars) {
         a.notes.push_back(
             fmt::format("cell {}: advanced {:.2f} columns, fewer than {}: evaluated at {} pillars",
                         r.id, r.advance, pillars, r.pillars));
-      if (r.p_f) p_f.push_back(*r.p_f);
+      }
+      if (r.p_f) {
+        p_f.push_back(*r.p_f);
+      }
       start_y.push_back(r.y0);
       a.outlet_pillars = std::min(a.outlet_pillars, r.pillars);
     }
     a.cells.push_back(r);
   }
-  if (start_y.empty())
+  if (start_y.empty()) {
     throw InputError(fmt::format(
         "{}: no cell advanced a whole pillar (at most {:.2f} columns): nothing to evaluate",
         run.files.front(), most));
+  }
   a.p_f = mean_std(p_f);
 
   // Outlets after the common number of columns (SPEC section 7).
@@ -54,10 +58,11 @@ RunAnalysis analyze_run(const Run& run, int pillars, const ExpectedMode& expecte
     a.outlet_of_cell.push_back(outlet_of(a.bins, end_y.back()));
   }
   a.outlets = count_outlets(a.bins, end_y);
-  if (a.outlet_pillars < pillars)
+  if (a.outlet_pillars < pillars) {
     a.notes.push_back(
         fmt::format("outlets taken after {} columns (the fewest any cell passed), not {}",
                     a.outlet_pillars, pillars));
+  }
   return a;
 }
 

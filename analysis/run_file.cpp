@@ -17,36 +17,43 @@ namespace dld::analysis {
 std::string run_stem(const std::string& path) {
   static const std::regex cells(R"((.*)-cells-[0-9]+\.h5$)");
   std::smatch m;
-  if (std::regex_match(path, m, cells)) return m[1].str();
+  if (std::regex_match(path, m, cells)) {
+    return m[1].str();
+  }
   return path.size() > 3 && path.ends_with(".h5") ? path.substr(0, path.size() - 3) : path;
 }
 
 Run read_run_file(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path))
+  if (!std::filesystem::is_regular_file(path)) {
     throw InputError(fmt::format("{}: no such file (expected a dld-membrane run file)", path));
+  }
   const H5File f(path, H5File::Mode::kRead);
   Run r;
   r.stem = run_stem(path);
   r.files = {path};
   auto number = [&](const char* name) { return f.read_attribute_number("/cells", name); };
-  if (!f.exists("/cells/samples"))
+  if (!f.exists("/cells/samples")) {
     throw InputError(
         fmt::format("{}: no dataset /cells/samples (is this a dld-membrane run file?)", path));
+  }
   const auto count = number("count");
   const auto first = number("first_cell");
-  if (count < 1 || first < 0 || count != std::floor(count) || first != std::floor(first))
+  if (count < 1 || first < 0 || count != std::floor(count) || first != std::floor(first)) {
     throw InputError(fmt::format(
         "{}: /cells attributes count = {} and first_cell = {}: expected whole numbers, count >= 1",
         path, count, first));
+  }
   r.dt_s = number("dt_s");
   r.lambda_um = number("pillar_spacing_um");
   r.row_shift_um = number("row_shift_um");
-  if (!(r.lambda_um > 0) || !(r.row_shift_um >= 0) || !(r.row_shift_um < r.lambda_um))
+  if (!(r.lambda_um > 0) || !(r.row_shift_um >= 0) || !(r.row_shift_um < r.lambda_um)) {
     throw InputError(fmt::format(
         "{}: /cells pillar_spacing_um = {}, row_shift_um = {}: expected 0 <= d < lambda", path,
         r.lambda_um, r.row_shift_um));
-  if (const auto frame = f.read_attribute_string("/cells", "frame"); frame != "device")
+  }
+  if (const auto frame = f.read_attribute_string("/cells", "frame"); frame != "device") {
     throw InputError(fmt::format("{}: /cells frame = '{}': expected 'device'", path, frame));
+  }
   r.scene_name = f.read_attribute_string("/cells", "scene_name");
   try {
     r.capillary_number = number("capillary_number");
@@ -57,11 +64,12 @@ Run read_run_file(const std::string& path) {
   const std::vector<double> rows = f.read("/cells/samples", &dims);
   const auto cells = static_cast<std::size_t>(count);
   const std::size_t width = 1 + 4 * cells;
-  if (dims.size() != 2 || dims[1] != width || dims[0] < 1)
+  if (dims.size() != 2 || dims[1] != width || dims[0] < 1) {
     throw InputError(fmt::format(
         "{}: /cells/samples has shape ({}): expected (rows >= 1, {}) for {} cells (step, then x y "
         "z volume per cell)",
         path, fmt::join(dims, ", "), width, cells));
+  }
   for (std::size_t k = 0; k < cells; ++k) {
     CellTrack t;
     t.id = static_cast<int>(first) + static_cast<int>(k);
@@ -70,9 +78,10 @@ Run read_run_file(const std::string& path) {
       t.step.push_back(v[0]);
       t.position.push_back({v[1 + 4 * k], v[2 + 4 * k], v[3 + 4 * k]});
       t.volume.push_back(v[4 + 4 * k]);
-      if (!std::isfinite(v[1 + 4 * k]) || !std::isfinite(v[2 + 4 * k]))
+      if (!std::isfinite(v[1 + 4 * k]) || !std::isfinite(v[2 + 4 * k])) {
         throw InputError(fmt::format("{}: /cells/samples row {}: cell {} has a non-finite centroid",
                                      path, i, t.id));
+      }
     }
     r.cells.push_back(std::move(t));
   }
@@ -80,7 +89,9 @@ Run read_run_file(const std::string& path) {
 }
 
 Run merge_runs(std::vector<Run> parts) {
-  if (parts.empty()) throw InputError("no run file given");
+  if (parts.empty()) {
+    throw InputError("no run file given");
+  }
   Run out = std::move(parts.front());
   for (std::size_t p = 1; p < parts.size(); ++p) {
     Run& r = parts[p];
@@ -88,20 +99,30 @@ Run merge_runs(std::vector<Run> parts) {
       return InputError(fmt::format("{}: {} = {} but {} has {}: expected the files of one run",
                                     r.files.front(), what, b, out.files.front(), a));
     };
-    if (r.stem != out.stem) throw mismatch("run name", out.stem, r.stem);
-    if (r.scene_name != out.scene_name) throw mismatch("scene_name", out.scene_name, r.scene_name);
-    if (r.lambda_um != out.lambda_um)
+    if (r.stem != out.stem) {
+      throw mismatch("run name", out.stem, r.stem);
+    }
+    if (r.scene_name != out.scene_name) {
+      throw mismatch("scene_name", out.scene_name, r.scene_name);
+    }
+    if (r.lambda_um != out.lambda_um) {
       throw mismatch("pillar_spacing_um", out.lambda_um, r.lambda_um);
-    if (r.row_shift_um != out.row_shift_um)
+    }
+    if (r.row_shift_um != out.row_shift_um) {
       throw mismatch("row_shift_um", out.row_shift_um, r.row_shift_um);
-    if (r.capillary_number != out.capillary_number)
+    }
+    if (r.capillary_number != out.capillary_number) {
       throw mismatch("capillary_number", out.capillary_number.value_or(NAN),
                      r.capillary_number.value_or(NAN));
-    for (const CellTrack& t : r.cells)
-      for (const CellTrack& o : out.cells)
-        if (t.id == o.id)
+    }
+    for (const CellTrack& t : r.cells) {
+      for (const CellTrack& o : out.cells) {
+        if (t.id == o.id) {
           throw InputError(fmt::format("{}: cell {} is also in {}: expected each cell in one file",
                                        r.files.front(), t.id, out.files.front()));
+        }
+      }
+    }
     out.files.insert(out.files.end(), r.files.begin(), r.files.end());
     std::move(r.cells.begin(), r.cells.end(), std::back_inserter(out.cells));
   }
@@ -112,7 +133,10 @@ Run merge_runs(std::vector<Run> parts) {
 
 Run read_run(const std::vector<std::string>& paths) {
   std::vector<Run> parts;
-  for (const auto& p : paths) parts.push_back(read_run_file(p));
+  parts.reserve(paths.size());
+  for (const auto& p : paths) {
+    parts.push_back(read_run_file(p));
+  }
   return merge_runs(std::move(parts));
 }
 

@@ -40,13 +40,19 @@ std::string fmt_command(const std::string& dir, bool plots) {
 }
 
 bool have_matplotlib() {
-  return std::system("/usr/bin/python3 -c 'import matplotlib, h5py' > /dev/null 2>&1") == 0;
+  // find_spec, not import: starting matplotlib takes seconds on a loaded machine.
+  return std::system(
+             "/usr/bin/python3 -c \"import importlib.util as u, sys; "
+             "sys.exit(not (u.find_spec('matplotlib') and u.find_spec('h5py')))\" "
+             "> /dev/null 2>&1") == 0;
 }
 
 std::vector<std::string> lines(const std::string& path) {
   std::ifstream in(path);
   std::vector<std::string> out;
-  for (std::string l; std::getline(in, l);) out.push_back(l);
+  for (std::string l; std::getline(in, l);) {
+    out.push_back(l);
+  }
   return out;
 }
 
@@ -77,14 +83,20 @@ TEST(DldAnalyze, WritesTablesAndPlotsForARunOfTwoFiles) {
   // Mean p_fD over the cells: (0 + 0 + d/lambda) / 3.
   std::stringstream row(summary[1]);
   std::vector<std::string> fields;
-  for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
+  for (std::string f; std::getline(row, f, ',');) {
+    fields.push_back(f);
+  }
   std::stringstream head(summary[0]);
   std::size_t col = 0;
-  for (std::string f; std::getline(head, f, ',') && f != "p_f_mean";) ++col;
+  for (std::string f; std::getline(head, f, ',') && f != "p_f_mean";) {
+    ++col;
+  }
   ASSERT_LT(col, fields.size()) << summary[1];
   EXPECT_NEAR(std::stod(fields[col]), d / kLambda / 3, 1e-6);
   EXPECT_EQ(lines(dir + "/out/run-outlets.csv").size(), 6u);  // header, O1..O4, outside
-  if (!plots) GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib or h5py: PNGs not checked";
+  if (!plots) {
+    GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib or h5py: PNGs not checked";
+  }
   EXPECT_GT(fs::file_size(dir + "/out/run-trajectories.png"), 1000u);
   EXPECT_GT(fs::file_size(dir + "/out/run-outlets.png"), 1000u);
 }
@@ -108,10 +120,14 @@ TEST(DldAnalyze, BadInputIsOneErrorLineAndANonZeroExit) {
   expect_error(dir + "/ok-cells-0.h5 --pillars many", "--pillars");
   expect_error(dir + "/ok-cells-0.h5 --expected-mode sideways", "--expected-mode");
   expect_error(dir + "/ok-cells-0.h5 --modes " + dir + "/nomap.toml", "nomap.toml");
+  expect_error("", "no run file given");
+  expect_error(dir + "/ok-cells-0.h5 --pillars 2.5", "--pillars: '2.5' is not a whole number");
 }
 
 TEST(PlotStudy, DrawsFailureAgainstHaematocritFromSummaries) {
-  if (!have_matplotlib()) GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
+  if (!have_matplotlib()) {
+    GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
+  }
   const std::string dir = testing::temp_dir("study");
   std::ofstream(dir + "/study.csv")
       << "haematocrit_percent,row_shift_um,capillary_number,p_f_mean,p_f_std,pillar_spacing_um\n"

@@ -42,22 +42,28 @@ TEST(Evaluation, YAtAdvanceInterpolatesBetweenSamples) {
 
 TEST(Evaluation, IdealZigzagFailsNeverAndEndsInO1OrO2) {
   std::vector<CellTrack> cells;
-  for (int k = 0; k < 4; ++k)
+  cells.reserve(4);
+  for (int k = 0; k < 4; ++k) {
     cells.push_back(track(k, 3.0 + k, 2.0 + 7.0 * k, 100.5, [](double c) { return wiggle(c); }));
+  }
   const RunAnalysis a = analyze_run(run_of(cells), 100, kZigzag);
   EXPECT_NEAR(a.p_f.mean, 0.0, kInterpolation);
   EXPECT_NEAR(a.p_f.std, 0.0, kInterpolation);
   EXPECT_EQ(a.p_f.n, 4);
-  for (const auto& c : a.cells) EXPECT_EQ(c.mode, TransportMode::kZigzag);
+  for (const auto& c : a.cells) {
+    EXPECT_EQ(c.mode, TransportMode::kZigzag);
+  }
   EXPECT_EQ(a.outlets.count[1] + a.outlets.count[2], 4);
   EXPECT_DOUBLE_EQ(a.outlets.fraction(1) + a.outlets.fraction(2), 1.0);
 }
 
 TEST(Evaluation, IdealDisplacementFailsNeverAndEndsInTheTopLambdaOfO4) {
   std::vector<CellTrack> cells;
-  for (int k = 0; k < 3; ++k)
+  cells.reserve(3);
+  for (int k = 0; k < 3; ++k) {
     cells.push_back(
         track(k, 3.0, 1.0 + 10.0 * k, 101, [](double c) { return kD * c + wiggle(c); }));
+  }
   const RunAnalysis a = analyze_run(run_of(cells), 100, kDisplacement);
   EXPECT_NEAR(a.p_f.mean, 0.0, kInterpolation);
   EXPECT_EQ(a.outlets.count[4], 3);

@@ -26,13 +26,14 @@ std::string error_of(const std::function<void()>& f) {
 TEST(ExpectedMode, TheStudyMapHasAllNineCases) {
   const auto map = read_dilute_modes(kMap);
   EXPECT_EQ(map.size(), 9u);
-  for (double d : {2.0, 4.4, 6.0})
+  for (double d : {2.0, 4.4, 6.0}) {
     for (double ca : {0.2, 0.5, 1.0}) {
       const ExpectedMode e = lookup_expected_mode(map, kMap, d, ca);
       EXPECT_NE(e.source.find(kMap), std::string::npos) << e.source;
       // The first pass left d = 6, Ca = 1 undecided ("mixed"): no failure probability.
       EXPECT_EQ(e.known(), !(d == 6.0 && ca == 1.0)) << d << " " << ca;
     }
+  }
 }
 
 TEST(ExpectedMode, LookupFindsTheEntryOrSaysUnknown) {

@@ -70,7 +70,9 @@ TEST(RunFile, MergesTheFilesOfOneRunByFirstCell) {
   write_run_file(dir + "/run-cells-1.h5", {line(2, 9.0, 0.0)}, {.first_cell = 2});
   const analysis::Run r = read_run({dir + "/run-cells-1.h5", dir + "/run-cells-0.h5"});
   ASSERT_EQ(r.cells.size(), 3u);
-  for (int k = 0; k < 3; ++k) EXPECT_EQ(r.cells[static_cast<std::size_t>(k)].id, k);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(r.cells[static_cast<std::size_t>(k)].id, k);
+  }
   EXPECT_DOUBLE_EQ(r.cells[2].position.front()[1], 9.0);
   EXPECT_DOUBLE_EQ(r.cells[0].position.front()[1], 1.0);
   EXPECT_EQ(r.files.size(), 2u);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "synthetic.hpp"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -16,3 +17,21 @@ std::string temp_dir(const std::string& name) {
 }
 
 }  // namespace dld::analysis::testing
+
+namespace {
+
+/// Removes this test program's temporary directories when it ends.
+class RemoveTempDirs : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    std::error_code ec;
+    std::filesystem::remove_all(
+        std::filesystem::temp_directory_path() / ("dld-analysis-test-" + std::to_string(getpid())),
+        ec);
+  }
+};
+
+[[maybe_unused]] ::testing::Environment* const kRemoveTempDirs =
+    ::testing::AddGlobalTestEnvironment(new RemoveTempDirs);
+
+}  // namespace

@@ -57,8 +57,9 @@ inline void write_run_file(const std::string& path, const std::vector<CellTrack>
   std::vector<double> rows;
   for (std::size_t i = 0; i < cells.front().step.size(); ++i) {
     rows.push_back(cells.front().step[i]);
-    for (const auto& c : cells)
+    for (const auto& c : cells) {
       rows.insert(rows.end(), {c.position[i][0], c.position[i][1], c.position[i][2], c.volume[i]});
+    }
   }
   h.write("/cells/samples", rows.data(), {rows.size() / width, width});
   h.attribute("/cells", "count", static_cast<std::int64_t>(cells.size()));
@@ -68,7 +69,9 @@ inline void write_run_file(const std::string& path, const std::vector<CellTrack>
   h.attribute("/cells", "pillar_spacing_um", f.lambda);
   h.attribute("/cells", "row_shift_um", f.d);
   h.attribute("/cells", "scene_name", f.scene);
-  if (f.with_ca) h.attribute("/cells", "capillary_number", f.ca);
+  if (f.with_ca) {
+    h.attribute("/cells", "capillary_number", f.ca);
+  }
 }
 
 /// A fresh directory under the system temporary directory for one test.

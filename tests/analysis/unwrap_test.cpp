@@ -27,8 +27,9 @@ int round_trip(const DldCell& cell, P a, P b, int samples = 400) {
     EXPECT_NEAR(back[i][0], device[i][0], 1e-9) << "sample " << i;
     EXPECT_NEAR(back[i][1], device[i][1], 1e-9) << "sample " << i;
     if (i > 0 && std::abs(box[i][0] - box[i - 1][0]) + std::abs(box[i][1] - box[i - 1][1]) >
-                     0.5 * cell.lambda)
+                     0.5 * cell.lambda) {
       ++jumps;
+    }
   }
   return jumps;
 }
