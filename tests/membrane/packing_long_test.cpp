@@ -16,7 +16,9 @@ TEST_P(StudyStatesFine, AreClearOfTheContactRangeAndGiveTheStudysHaematocrit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Study, StudyStatesFine, ::testing::ValuesIn(test::kStudyStates),
-                         [](const auto& info) { return std::to_string(info.param.cells) + "cells"; });
+                         [](const auto& info) {
+                           return std::to_string(info.param.cells) + "cells";
+                         });
 
 }  // namespace
 }  // namespace dld::membrane
