@@ -3,6 +3,8 @@
 // periodic y and the shifted periodic x), to the z walls and to the pillar. What a packed initial
 // state must keep above the contact range.
 #pragma once
+#include <vector>
+
 #include "membrane/mesh.hpp"
 #include "shared/dld_geometry.hpp"
 
@@ -19,6 +21,12 @@ struct Clearances {
 /// x holds the cells one after another, `nodes_per_cell` nodes each, unwrapped (a cell in one
 /// piece). Cell gaps larger than `cap` are reported as `cap` (the search stops there).
 Clearances clearances(const Points& x, int nodes_per_cell, const DldCell& box, double cap);
+
+/// Nodes of any cell lying inside another cell or its periodic image (surfaces that cross between
+/// nodes, which node gaps alone would miss): winding number over the other cell's faces, `faces`
+/// those of every cell.
+int nodes_inside_other_cells(const Points& x, const std::vector<Face>& faces, int nodes_per_cell,
+                             const DldCell& box);
 
 /// Moves each cell as a whole so that its centroid lies in the box [0, lambda)^2, honouring the
 /// shifted x boundary (z untouched).

@@ -99,7 +99,9 @@ void run_pack(const Scene& scene, const MembraneScene& m, std::vector<int> count
   const double range = m.pack ? m.pack->clearance_lu : (m.contact ? m.contact->range : 1.0);
   std::printf("# packed initial states: %s (dx %.3g um, %d faces, contact range %.3g um)\n",
               scene.file.c_str(), dx, m.reference_lu.face_count(), range * dx);
-  std::printf("# cells  Ht_%%   gap_cells_um gap_walls_um gap_pillar_um  pack_s  file\n");
+  std::printf(
+      "# cells  Ht_%%   gap_cells_um gap_walls_um gap_pillar_um  nodes_inside  pack_cpu_s  "
+      "pack_wall_s  file\n");
   for (int count : counts) {
     if (count < 1)
       throw dld::InputError(fmt::format("--counts: expected counts >= 1, got {}", count));
@@ -109,10 +111,11 @@ void run_pack(const Scene& scene, const MembraneScene& m, std::vector<int> count
     for (int k = 0; k < count; ++k) cells.add_cell(Points(p.cells.positions.middleCols(k * n, n)));
     // Measured on the state itself, not taken from the file.
     const Clearances g = clearances(cells.positions(), n, box, box.lambda);
-    std::printf("%7d  %5.2f  %12.3f %12.3f %13.3f  %6.1f  %s%s\n", count,
-                100.0 * haematocrit(cells, box), g.cells * dx, g.walls * dx, g.pillar * dx,
-                p.cells.report.seconds, p.file.empty() ? "(not saved)" : p.file.c_str(),
-                p.from_cache ? " (loaded)" : "");
+    const int inside = nodes_inside_other_cells(cells.positions(), m.reference_lu.faces, n, box);
+    std::printf("%7d  %5.2f  %12.3f %12.3f %13.3f  %12d  %10.1f  %11.1f  %s%s\n", count,
+                100.0 * haematocrit(cells, box), g.cells * dx, g.walls * dx, g.pillar * dx, inside,
+                p.cells.report.cpu_seconds, p.cells.report.seconds,
+                p.file.empty() ? "(not saved)" : p.file.c_str(), p.from_cache ? " (loaded)" : "");
     std::fflush(stdout);
   }
 }

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <random>
 
 #include "membrane/cell_set.hpp"
@@ -118,6 +119,7 @@ int relax(CellSet& cells, const DldCell& box, double target, double range, bool 
 PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackOptions& o,
                        const PackLog& log) {
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
   if (o.count < 1) throw InputError(fmt::format("packing: cell count {} must be >= 1", o.count));
   TriMesh ref = reference;
   ref.nodes.colwise() -= centroid(ref.nodes);
@@ -172,7 +174,11 @@ PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackO
         fmt::format("packing {} cells: smallest gap {:.3g} is not above the contact "
                     "range {:.3g} (lattice lengths)",
                     o.count, rep.gaps.min(), o.clearance));
+  if (const int inside = nodes_inside_other_cells(x, ref.faces, n, box))
+    throw InputError(
+        fmt::format("packing {} cells: {} nodes lie inside other cells", o.count, inside));
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  rep.cpu_seconds = static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   return out;
 }
 

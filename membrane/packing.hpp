@@ -30,9 +30,10 @@ struct PackOptions {
 
 struct PackReport {
   int stages = 0;
-  int iterations = 0;    ///< L-BFGS iterations over all stages
-  double seconds = 0.0;  ///< wall time
-  Clearances gaps;       ///< of the final state [lattice lengths]
+  int iterations = 0;        ///< L-BFGS iterations over all stages
+  double seconds = 0.0;      ///< wall time
+  double cpu_seconds = 0.0;  ///< processor time of this process (the machine may be shared)
+  Clearances gaps;           ///< of the final state [lattice lengths]
 };
 
 struct PackedCells {

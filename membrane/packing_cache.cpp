@@ -15,7 +15,7 @@ namespace dld::membrane {
 namespace {
 
 // Bump when the packing algorithm or its constants change, so stale states are not reused.
-constexpr const char* kVersion = "packing_v1";
+constexpr const char* kVersion = "packing_v2";
 
 struct Fnv1a {
   std::uint64_t h = 1469598103934665603ull;
@@ -68,6 +68,7 @@ void write_packing(const std::string& path, const PackedCells& p, const std::str
     f.attribute("/packing", "stages", static_cast<std::int64_t>(r.stages));
     f.attribute("/packing", "iterations", static_cast<std::int64_t>(r.iterations));
     f.attribute("/packing", "seconds", r.seconds);
+    f.attribute("/packing", "cpu_seconds", r.cpu_seconds);
     f.attribute("/packing", "gap_cells", r.gaps.cells);
     f.attribute("/packing", "gap_walls", r.gaps.walls);
     f.attribute("/packing", "gap_pillar", r.gaps.pillar);
@@ -94,6 +95,7 @@ PackedCells read_packing(const std::string& path, const std::string& key, int co
   r.stages = static_cast<int>(f.read_attribute_number("/packing", "stages"));
   r.iterations = static_cast<int>(f.read_attribute_number("/packing", "iterations"));
   r.seconds = f.read_attribute_number("/packing", "seconds");
+  r.cpu_seconds = f.read_attribute_number("/packing", "cpu_seconds");
   r.gaps = {f.read_attribute_number("/packing", "gap_cells"),
             f.read_attribute_number("/packing", "gap_walls"),
             f.read_attribute_number("/packing", "gap_pillar")};

@@ -13,7 +13,7 @@ namespace dld::membrane {
 /// directory).
 std::string default_packing_cache_dir();
 
-/// File name of the state of (reference, box, options): "packing_v1_n<count>_seed<seed>_<hash>.h5".
+/// File name of the state of (reference, box, options): "packing_v2_n<count>_seed<seed>_<hash>.h5".
 std::string packing_file_name(const TriMesh& reference, const DldCell& box, const PackOptions& o);
 
 /// Writes atomically (temporary file, then rename): /packing/positions (nodes x 3, lattice

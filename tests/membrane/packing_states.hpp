@@ -34,6 +34,7 @@ inline void check_study_state(const std::string& scene_file, StudyState s) {
   EXPECT_GT(g.cells, range) << s.cells << " cells";
   EXPECT_GT(g.walls, range) << s.cells << " cells";
   EXPECT_GT(g.pillar, range) << s.cells << " cells";
+  EXPECT_EQ(nodes_inside_other_cells(cells.positions(), m.reference_lu.faces, n, box), 0);
   // Cell centroids lie in the box; the volume stayed that of the rest shape.
   const double v0 = enclosed_volume(m.reference_lu);
   for (int k = 0; k < s.cells; ++k) {

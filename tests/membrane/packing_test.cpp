@@ -11,6 +11,7 @@
 
 #include "membrane/packing_cache.hpp"
 #include "packing_states.hpp"
+#include "test_meshes.hpp"
 
 namespace dld::membrane {
 namespace {
@@ -91,6 +92,22 @@ TEST(Clearance, SeesImagesAcrossTheShiftedXFace) {
   x.col(1) << 0.2, 20.0, 6.0;  // without the shift it is 11 away through the face
   EXPECT_NEAR(clearances(x, 1, box, 20.0).cells, std::hypot(0.3, 11.0), 1e-9);
   EXPECT_NEAR(clearances(x, 1, box, 20.0).walls, 6.0, 1e-12);
+}
+
+TEST(Clearance, FindsNodesInsideAnotherCell) {
+  // Two octahedra (radius 1): apart, none inside; overlapping by half, the tip of each is inside
+  // the other, also when the overlap goes through the shifted x face.
+  const TriMesh o = test::octahedron();
+  const DldCell box{80.0, 25.0, 12.0, 11.0};
+  Points x(3, 12);
+  x.leftCols(6) = o.nodes.colwise() + Eigen::Vector3d(10.0, 10.0, 6.0);
+  x.rightCols(6) = o.nodes.colwise() + Eigen::Vector3d(13.0, 10.0, 6.0);
+  EXPECT_EQ(nodes_inside_other_cells(x, o.faces, 6, box), 0);
+  x.rightCols(6) = o.nodes.colwise() + Eigen::Vector3d(11.5, 10.0, 6.0);
+  EXPECT_EQ(nodes_inside_other_cells(x, o.faces, 6, box), 2);
+  x.leftCols(6) = o.nodes.colwise() + Eigen::Vector3d(79.5, 30.0, 6.0);
+  x.rightCols(6) = o.nodes.colwise() + Eigen::Vector3d(1.0 - 0.5, 30.0 - 11.0, 6.0);
+  EXPECT_EQ(nodes_inside_other_cells(x, o.faces, 6, box), 2);
 }
 
 }  // namespace
