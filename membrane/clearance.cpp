@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "membrane/clearance.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <vector>

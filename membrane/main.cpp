@@ -14,6 +14,7 @@
 #include "membrane/coupled_main.hpp"
 #include "membrane/membrane_scene.hpp"
 #include "membrane/mesh_quality.hpp"
+#include "membrane/packing.hpp"
 #include "shared/h5file.hpp"
 #include "shared/log.hpp"
 
@@ -100,8 +101,8 @@ void run_pack(const Scene& scene, const MembraneScene& m, std::vector<int> count
   std::printf("# packed initial states: %s (dx %.3g um, %d faces, contact range %.3g um)\n",
               scene.file.c_str(), dx, m.reference_lu.face_count(), range * dx);
   std::printf(
-      "# cells  Ht_%%   gap_cells_um gap_walls_um gap_pillar_um  nodes_inside  pack_cpu_s  "
-      "pack_wall_s  file\n");
+      "# cells  Ht_%%   gap_cells_um gap_walls_um gap_pillar_um  nodes_inside  tilt_deg  "
+      "pack_cpu_s  pack_wall_s  file\n");
   for (int count : counts) {
     if (count < 1)
       throw dld::InputError(fmt::format("--counts: expected counts >= 1, got {}", count));
@@ -112,10 +113,11 @@ void run_pack(const Scene& scene, const MembraneScene& m, std::vector<int> count
     // Measured on the state itself, not taken from the file.
     const Clearances g = clearances(cells.positions(), n, box, box.lambda);
     const int inside = nodes_inside_other_cells(cells.positions(), m.reference_lu.faces, n, box);
-    std::printf("%7d  %5.2f  %12.3f %12.3f %13.3f  %12d  %10.1f  %11.1f  %s%s\n", count,
+    std::printf("%7d  %5.2f  %12.3f %12.3f %13.3f  %12d  %8.1f  %10.1f  %11.1f  %s%s\n", count,
                 100.0 * haematocrit(cells, box), g.cells * dx, g.walls * dx, g.pillar * dx, inside,
-                p.cells.report.cpu_seconds, p.cells.report.seconds,
-                p.file.empty() ? "(not saved)" : p.file.c_str(), p.from_cache ? " (loaded)" : "");
+                largest_tilt_deg(cells.positions(), n), p.cells.report.cpu_seconds,
+                p.cells.report.seconds, p.file.empty() ? "(not saved)" : p.file.c_str(),
+                p.from_cache ? " (loaded)" : "");
     std::fflush(stdout);
   }
 }

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <chrono>
 #include <cmath>
@@ -115,6 +116,17 @@ int relax(CellSet& cells, const DldCell& box, double target, double range, bool 
 }
 
 }  // namespace
+
+double largest_tilt_deg(const Points& x, int n) {
+  double tilt = 0.0;
+  for (int k = 0; k * n < x.cols(); ++k) {
+    const Points d = x.middleCols(k * n, n).colwise() - x.middleCols(k * n, n).rowwise().mean();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(d * d.transpose());
+    const double c = std::abs(eig.eigenvectors().col(0).z());  // eigenvalues ascending
+    tilt = std::max(tilt, std::acos(std::min(1.0, c)) * 180.0 / M_PI);
+  }
+  return tilt;
+}
 
 PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackOptions& o,
                        const PackLog& log) {

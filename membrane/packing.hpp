@@ -42,6 +42,10 @@ struct PackedCells {
   PackReport report;
 };
 
+/// Largest angle [degrees] between a cell's short axis (smallest eigenvalue of its node gyration
+/// tensor) and z: how flat the cells of a state are (0 for cells lying flat).
+double largest_tilt_deg(const Points& x, int nodes_per_cell);
+
 /// Progress lines (stage, scale, gaps); may be empty.
 using PackLog = std::function<void(const std::string&)>;
 
