@@ -10,9 +10,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "membrane/clearance.hpp"
 #include "membrane/coupled_main.hpp"
 #include "membrane/membrane_scene.hpp"
 #include "membrane/mesh_quality.hpp"
+#include "membrane/packing.hpp"
 #include "shared/h5file.hpp"
 #include "shared/log.hpp"
 
@@ -87,6 +89,39 @@ void run_relax(const Scene& scene, const MembraneScene& m) {
   (void)scene;
 }
 
+/// --pack: the packed state of each count (loaded or packed and saved), one line each.
+void run_pack(const Scene& scene, const MembraneScene& m, std::vector<int> counts) {
+  if (counts.empty()) {
+    if (!m.pack) throw dld::InputError(scene.file + ": --pack needs [cells] count or --counts");
+    counts.push_back(m.pack->count);
+  }
+  const DldCell box = scene.cell_lu();
+  const double dx = scene.lattice.dx_um;
+  const double range = m.pack ? m.pack->clearance_lu : (m.contact ? m.contact->range : 1.0);
+  std::printf("# packed initial states: %s (dx %.3g um, %d faces, contact range %.3g um)\n",
+              scene.file.c_str(), dx, m.reference_lu.face_count(), range * dx);
+  std::printf(
+      "# cells  Ht_%%   gap_cells_um gap_walls_um gap_pillar_um  nodes_inside  tilt_deg  "
+      "pack_cpu_s  pack_wall_s  file\n");
+  for (int count : counts) {
+    if (count < 1)
+      throw dld::InputError(fmt::format("--counts: expected counts >= 1, got {}", count));
+    const CachedPacking p = packed_scene_cells(m, scene, count);
+    CellSet cells(m.reference_lu, MembraneMechanics{});
+    const int n = p.cells.nodes_per_cell;
+    for (int k = 0; k < count; ++k) cells.add_cell(Points(p.cells.positions.middleCols(k * n, n)));
+    // Measured on the state itself, not taken from the file.
+    const Clearances g = clearances(cells.positions(), n, box, box.lambda);
+    const int inside = nodes_inside_other_cells(cells.positions(), m.reference_lu.faces, n, box);
+    std::printf("%7d  %5.2f  %12.3f %12.3f %13.3f  %12d  %8.1f  %10.1f  %11.1f  %s%s\n", count,
+                100.0 * haematocrit(cells, box), g.cells * dx, g.walls * dx, g.pillar * dx, inside,
+                largest_tilt_deg(cells.positions(), n), p.cells.report.cpu_seconds,
+                p.cells.report.seconds, p.file.empty() ? "(not saved)" : p.file.c_str(),
+                p.from_cache ? " (loaded)" : "");
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -122,6 +157,12 @@ int main(int argc, char** argv) {
   app.add_option("--resume", coupled.resume, "coupled mode: start from this checkpoint");
   app.add_option("-o,--output", output,
                  "HDF5 output of standalone runs (default: the scene's output.file)");
+  bool pack = false;
+  std::vector<int> pack_counts;
+  app.add_flag("--pack", pack,
+               "pack the scene's [cells] count (or --counts) at random: Ht, gaps, time, file");
+  app.add_option("--counts", pack_counts, "with --pack: cell counts, e.g. 3,6,12,15,17")
+      ->delimiter(',');
   app.add_flag("-v,--verbose", verbose, "debug logging");
   CLI11_PARSE(app, argc, argv);
   dld::setup_logging("dld-membrane", verbose);
@@ -131,6 +172,10 @@ int main(int argc, char** argv) {
     scene.document->reject_unknown({"coupling"});
     spdlog::info("{}", m.describe(scene));
     spdlog::info("mesh: {}", describe(mesh_quality(m.reference_lu)));
+    if (pack) {
+      run_pack(scene, m, pack_counts);
+      return 0;
+    }
     if (!coupled.endpoint.empty()) {
       if (coupled.peer >= coupled.peers)
         throw dld::InputError(

@@ -2,6 +2,7 @@
 #include "membrane/membrane_scene.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <filesystem>
@@ -152,6 +153,26 @@ MembraneScene read_membrane_scene(const Scene& scene) {
         "a scene runs one standalone task: give [membrane.stretch] or [membrane.relax], not both");
 
   if (auto cells = root.optional_section("cells")) {
+    const bool listed = !cells->sections("cell").empty();
+    if (cells->has("count")) {
+      if (listed)
+        cells->fail("count",
+                    "give either count (cells packed at random) or [[cells.cell]], not both");
+      PackRequest p;
+      const auto count = cells->integer("count");
+      if (count < 1 || count > 200)
+        cells->fail("count", fmt::format("expected 1..200, got {}", count));
+      p.count = static_cast<int>(count);
+      const auto seed = cells->integer("seed", 1);
+      if (seed < 0) cells->fail("seed", fmt::format("expected an integer >= 0, got {}", seed));
+      p.seed = static_cast<std::uint64_t>(seed);
+      p.cache = cells->string("packing_cache", default_packing_cache_dir());
+      p.clearance_lu = out.contact ? out.contact->range : 1.0;
+      out.pack = p;
+    } else {
+      for (const char* key : {"seed", "packing_cache"})
+        if (cells->has(key)) cells->fail(key, "only used with count (cells packed at random)");
+    }
     for (const TomlSection& c : cells->sections("cell")) {
       const auto p = c.numbers("centre_um");
       if (p.size() != 3) c.fail("centre_um", "expected [x, y, z] in um");
@@ -171,7 +192,29 @@ CellSet build_cells(const MembraneScene& m, const Scene& scene) {
   CellSet cells(m.reference_lu, m.mechanics, contact);
   for (std::size_t k = 0; k < m.centres_lu.size(); ++k)
     cells.add_cell(m.centres_lu[k], m.angles_rad[k]);
+  if (m.pack) {
+    const CachedPacking p = packed_scene_cells(m, scene);
+    const int n = p.cells.nodes_per_cell;
+    for (int k = 0; k < m.pack->count; ++k)
+      cells.add_cell(Points(p.cells.positions.middleCols(k * n, n)));
+  }
   return cells;
+}
+
+CachedPacking packed_scene_cells(const MembraneScene& m, const Scene& scene, int count) {
+  if (!m.pack && count < 1)
+    throw InputError(fmt::format("{}: [cells] count is not set: nothing to pack", scene.file));
+  PackOptions o;
+  o.count = count > 0 ? count : m.pack->count;
+  o.seed = m.pack ? m.pack->seed : 1;
+  o.clearance = m.pack ? m.pack->clearance_lu : (m.contact ? m.contact->range : 1.0);
+  const std::string cache = m.pack ? m.pack->cache : default_packing_cache_dir();
+  CachedPacking p =
+      packed_cells(m.reference_lu, scene.cell_lu(), o, cache,
+                   [](const std::string& line) { spdlog::debug("packing: {}", line); });
+  spdlog::info("{} {} cells (seed {}){}", p.from_cache ? "loaded" : "packed", o.count, o.seed,
+               p.file.empty() ? std::string() : " : " + p.file);
+  return p;
 }
 
 double haematocrit(const CellSet& cells, const DldCell& box) {
@@ -197,7 +240,9 @@ std::string MembraneScene::describe(const Scene& scene) const {
     s += fmt::format(
         "  contact: range {:.4g} dx, eps {:.6g} lattice energy (walls {}, pillar {}, cells {})\n",
         contact->range, contact->strength, contact->walls, contact->pillar, contact->cells);
-  s += fmt::format("  cells: {} ; force unit {:.6g} pN per lattice force", centres_lu.size(),
+  const std::size_t count = pack ? static_cast<std::size_t>(pack->count) : centres_lu.size();
+  s += fmt::format("  cells: {}{} ; force unit {:.6g} pN per lattice force", count,
+                   pack ? fmt::format(" packed at random (seed {})", pack->seed) : "",
                    u.force_n(1.0) * 1e12);
   return s;
 }

@@ -10,6 +10,7 @@
 #include "membrane/contact.hpp"
 #include "membrane/evans_fung.hpp"
 #include "membrane/model_registry.hpp"
+#include "membrane/packing_cache.hpp"
 #include "membrane/relaxation.hpp"
 #include "membrane/stretching.hpp"
 #include "shared/scene.hpp"
@@ -29,6 +30,14 @@ struct RelaxTask {
   RelaxOptions options;          ///< lattice units
 };
 
+/// [cells] count = N: N cells packed at random (membrane/packing), saved and reused.
+struct PackRequest {
+  int count = 0;
+  std::uint64_t seed = 1;
+  std::string cache;          ///< folder of saved states ("" = pack every time)
+  double clearance_lu = 1.0;  ///< smallest node gap: the contact range, else one lattice spacing
+};
+
 struct MembraneScene {
   EvansFungShape shape_um;  ///< rest shape [um]
   int mesh_faces = 2000;
@@ -41,6 +50,7 @@ struct MembraneScene {
   std::optional<ContactParams> contact;  ///< lattice units
   std::vector<Eigen::Vector3d> centres_lu;
   std::vector<double> angles_rad;
+  std::optional<PackRequest> pack;  ///< instead of centres_lu
   std::optional<StretchTask> stretch;
   std::optional<RelaxTask> relax;
 
@@ -54,6 +64,10 @@ MembraneScene read_membrane_scene(const Scene& scene);
 
 /// The cells of the scene, in the scene's box (lattice units).
 CellSet build_cells(const MembraneScene& m, const Scene& scene);
+
+/// The packed state of `count` cells (the scene's [cells] count when 0) with the scene's seed,
+/// cache, clearance and geometry; loaded when saved before, else packed and saved.
+CachedPacking packed_scene_cells(const MembraneScene& m, const Scene& scene, int count = 0);
 
 /// Ht = cells x cell volume / fluid volume of the box (pillar excluded), from the meshes.
 double haematocrit(const CellSet& cells, const DldCell& box_lu);

@@ -119,11 +119,15 @@ int main(int argc, char** argv) {
     const bool with_cells = membrane == "cells";
     int cells = tracers * peers;
     if (with_cells) {
+      // [cells] count = N (packed at random by dld-membrane) or one [[cells.cell]] per cell.
       const auto* list = scene.document->root().at_path("cells.cell").as_array();
-      cells = list ? static_cast<int>(list->size()) : 0;
+      const auto count = scene.document->root().at_path("cells.count").value<std::int64_t>();
+      cells = count ? static_cast<int>(*count) : list ? static_cast<int>(list->size()) : 0;
       if (cells < peers)
-        throw dld::InputError(fmt::format("{}: {} [[cells.cell]] for {} membrane processes",
-                                          scene_path, cells, peers));
+        throw dld::InputError(
+            fmt::format("{}: {} cells ([cells] count or [[cells.cell]]) for {} "
+                        "membrane processes",
+                        scene_path, cells, peers));
     }
     // Checkpoints: <stem>-fluid.ckpt.h5 and <stem>-cells-k.ckpt.h5 (each keeps its previous one as
     // .prev); resuming takes the newest step every program has.

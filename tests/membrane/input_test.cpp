@@ -189,5 +189,22 @@ TEST(SceneKeys, UserMeshFileIsChecked) {
   EXPECT_NE(scene_error(both).find("not both"), std::string::npos) << scene_error(both);
 }
 
+TEST(SceneKeys, PackedCellsKeysAreChecked) {
+  const std::string cell = "[[cells.cell]]\ncentre_um = [3.0, 3.0, 2.4]\n";
+  EXPECT_EQ(scene_error(kGood + "[cells]\ncount = 3\nseed = 7\n"), "");
+  std::string e = scene_error(kGood + "[cells]\ncount = 0\n");
+  EXPECT_NE(e.find("t.toml:"), std::string::npos) << e;
+  EXPECT_NE(e.find("cells.count"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected 1..200"), std::string::npos) << e;
+  e = scene_error(kGood + "[cells]\ncount = 3\nseed = -1\n");
+  EXPECT_NE(e.find("cells.seed"), std::string::npos) << e;
+  e = scene_error(kGood + "[cells]\nseed = 2\n");
+  EXPECT_NE(e.find("only used with count"), std::string::npos) << e;
+  e = scene_error(kGood + "[cells]\ncount = 3\n" + cell);
+  EXPECT_NE(e.find("not both"), std::string::npos) << e;
+  e = scene_error(kGood + "[cells]\ncount = \"many\"\n");
+  EXPECT_NE(e.find("cells.count"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace dld::membrane
