@@ -52,6 +52,7 @@ StudyAxis read_axis(const TomlSection& s) {
   axis.name = s.string("name");
   if (axis.name.empty() || axis.name.find_first_of("/ -") != std::string::npos)
     s.fail("name", "expected a short name without spaces, '-' or '/' (it names run directories)");
+  axis.column = s.string("column", "");
   axis.values = s.numbers("values");
   if (axis.values.empty()) s.fail("values", "expected at least one value");
   if (std::set<double>(axis.values.begin(), axis.values.end()).size() != axis.values.size())

@@ -17,6 +17,7 @@ namespace dld::coupler {
 /// (dotted paths) set at each value.
 struct StudyAxis {
   std::string name;
+  std::string column;  ///< its column in the sweep's summary.csv (default: name)
   std::vector<double> values;
   std::vector<std::pair<std::string, toml::array>> set;  ///< key -> one value per axis value
 };

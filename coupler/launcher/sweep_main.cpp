@@ -237,12 +237,14 @@ int main(int argc, char** argv) {
       const std::string csv = dld::coupler::write_summary(study, runs, resolution);
       const fs::path plot = fs::path(DLD_SOURCE_DIR) / "analysis" / "plot_study.py";
       if (fs::exists(plot) && fs::exists("/usr/bin/python3")) {
-        std::vector<std::string> p{"/usr/bin/python3", plot.string(), csv, "-o",
-                                   fs::path(csv).parent_path().string()};
+        const std::string png = (fs::path(csv).parent_path() / "failure-probability.png").string();
+        std::vector<std::string> p{"/usr/bin/python3", plot.string(), csv, "-o", png};
         auto c = dld::coupler::start_child("plot_study", p,
                                            (fs::path(csv).parent_path() / "plots.log").string());
         if (dld::coupler::wait_child(c) != 0)
           fmt::print(stderr, "dld-sweep: plot_study.py failed: see {}\n", c.log);
+        else
+          fmt::print("plot: {} (trajectories and outlets: each run's directory)\n", png);
       }
     }
     if (!failed.empty()) {

@@ -22,11 +22,19 @@ std::vector<std::string> lines(const fs::path& p) {
   return out;
 }
 
+/// The fields of one CSV line ("..." may hold commas).
 std::vector<std::string> cells(const std::string& csv_line) {
-  std::vector<std::string> out;
-  std::string cell;
-  std::istringstream in(csv_line);
-  while (std::getline(in, cell, ',')) out.push_back(cell);
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (const char ch : csv_line) {
+    if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == ',' && !quoted) {
+      out.emplace_back();
+    } else {
+      out.back() += ch;
+    }
+  }
   return out;
 }
 
@@ -81,7 +89,7 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
   fs::create_directories(dir);
   const fs::path csv = dir / "summary.csv";
   std::string header = "run";
-  for (const auto& a : study.axes) header += "," + a.name;
+  for (const auto& a : study.axes) header += "," + (a.column.empty() ? a.name : a.column);
   header += ",wall_s";
   std::string analysis_header;
   std::vector<std::string> rows;
@@ -108,11 +116,19 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
   fs::rename(csv.string() + ".tmp", csv);
   fmt::print("sweep summary ({} of {} runs finished{}): {}\n", rows.size(), runs.size(),
              missing ? fmt::format(", {} without analysis", missing) : "", csv.string());
+  // On the terminal: the axes, wall time and the analysis's headline figures.
   const auto head = cells(header + (analysis_header.empty() ? "" : "," + analysis_header));
-  for (const auto& h : head) fmt::print("{:>14.14} ", h);
+  std::vector<std::size_t> shown;
+  for (std::size_t i = 0; i < head.size(); ++i)
+    if (i < 2 + study.axes.size() ||
+        std::string(",failure,p_f_mean,p_f_std,O1,O2,O3,O4,").find("," + head[i] + ",") !=
+            std::string::npos)
+      shown.push_back(i);
+  for (const std::size_t i : shown) fmt::print("{:>12.12} ", head[i]);
   fmt::print("\n");
   for (const auto& r : rows) {
-    for (const auto& c : cells(r)) fmt::print("{:>14.14} ", c);
+    const auto c = cells(r);
+    for (const std::size_t i : shown) fmt::print("{:>12.12} ", i < c.size() ? c[i] : "");
     fmt::print("\n");
   }
   return csv.string();
