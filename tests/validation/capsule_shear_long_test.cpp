@@ -24,7 +24,9 @@ CapsuleShearSetup full_resolution(double ca) {
   s.faces = 1280;
   s.reynolds = 0.1;
   s.capillary = ca;
-  s.strain = 6.0;
+  // The low-Ca capsules settle by gammadot t = 2; at Ca >= 0.1, D peaks and then drifts down by
+  // 1.5 % until gammadot t = 8, where the reference curves end (their "steady" value).
+  s.strain = ca < 0.1 ? 6.0 : 8.0;
   s.sample_every = 100;
   return s;
 }
@@ -66,19 +68,28 @@ INSTANTIATE_TEST_SUITE_P(Ramanujan1998, CapsuleShearLong, ::testing::Values(0.02
                          });
 
 // Small-deformation theory (Barthes-Biesel & Rallison 1981, as in reference/README.md):
-// D = (5/4) (2 + nu_s)/(1 + nu_s) mu gammadot a / G_s with nu_s = C/(1 + C) for Skalak.
+// D = (5/4) (2 + nu_s)/(1 + nu_s) mu gammadot a / G_s with nu_s = C/(1 + C) for Skalak and 1/2 for
+// neo-Hookean. Checked directly (5 %) and as the Skalak/neo-Hookean ratio at the same G_s, in
+// which the resolution and confinement errors of the two runs largely cancel (2 %).
 TEST(CapsuleShearLong, SkalakSmallDeformationMatchesTheory) {
-  CapsuleShearSetup s = full_resolution(0.005);  // mu gammadot a / G_s = 0.015
+  CapsuleShearSetup s = full_resolution(0.005);  // mu gammadot a / G_s = 3 Ca = 0.015
+  s.strain = 3.0;
   s.law = MembraneLaw::skalak;
   s.skalak_c = 10.0;
-  s.strain = 4.0;
-  const CapsuleShearRun r = run_capsule_shear(s);
-  const double d = mean_deformation(r, 0.7 * r.strain.back());
-  const double nu_s = s.skalak_c / (1 + s.skalak_c);
-  const double theory = 1.25 * (2 + nu_s) / (1 + nu_s) * 3 * s.capillary;
-  fmt::print("Skalak C {}: D {:.5f}, small-deformation theory {:.5f}, error {:+.2f} %\n",
-             s.skalak_c, d, theory, 100 * (d / theory - 1));
-  EXPECT_NEAR(d, theory, 0.05 * theory);
+  const CapsuleShearRun skalak = run_capsule_shear(s);
+  s.law = MembraneLaw::neo_hookean;
+  const CapsuleShearRun neo_hookean = run_capsule_shear(s);
+  const double d_s = mean_deformation(skalak, 0.7 * skalak.strain.back());
+  const double d_nh = mean_deformation(neo_hookean, 0.7 * neo_hookean.strain.back());
+  const auto theory = [&](double nu_s) { return 1.25 * (2 + nu_s) / (1 + nu_s) * 3 * s.capillary; };
+  const double t_s = theory(s.skalak_c / (1 + s.skalak_c)), t_nh = theory(0.5);
+  fmt::print(
+      "Skalak C {}: D {:.5f}, theory {:.5f} ({:+.2f} %); neo-Hookean D {:.5f}, theory {:.5f} "
+      "({:+.2f} %); ratio {:.4f}, theory {:.4f} ({:+.2f} %)\n",
+      s.skalak_c, d_s, t_s, 100 * (d_s / t_s - 1), d_nh, t_nh, 100 * (d_nh / t_nh - 1), d_s / d_nh,
+      t_s / t_nh, 100 * ((d_s / d_nh) / (t_s / t_nh) - 1));
+  EXPECT_NEAR(d_s, t_s, 0.05 * t_s);
+  EXPECT_NEAR(d_s / d_nh, t_s / t_nh, 0.02 * t_s / t_nh);
 }
 
 }  // namespace

@@ -14,7 +14,7 @@ int main(int argc, char** argv) {
   CapsuleShearSetup s;
   std::string transport = "inproc", law = "neo_hookean", csv;
   int box = 0;
-  double settled = 0.7;
+  double settled = 0.3;
   CLI::App app{
       "Initially spherical capsule in simple shear (fluid and membrane as two threads "
       "over the coupler); lattice units"};
