@@ -133,11 +133,22 @@ Run merge_runs(std::vector<Run> parts) {
 
 Run read_run(const std::vector<std::string>& paths) {
   std::vector<Run> parts;
+  std::vector<std::string> skipped;
   parts.reserve(paths.size());
   for (const auto& p : paths) {
-    parts.push_back(read_run_file(p));
+    if (p.ends_with(".ckpt.h5")) {
+      skipped.push_back(p);
+    } else {
+      parts.push_back(read_run_file(p));
+    }
   }
-  return merge_runs(std::move(parts));
+  if (parts.empty() && !skipped.empty()) {
+    throw InputError(fmt::format("{}: a checkpoint, not a run file: expected <stem>-cells-K.h5",
+                                 skipped.front()));
+  }
+  Run r = merge_runs(std::move(parts));
+  r.skipped = std::move(skipped);
+  return r;
 }
 
 }  // namespace dld::analysis

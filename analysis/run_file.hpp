@@ -27,7 +27,8 @@ struct Run {
   double dt_s = 0;
   std::optional<double> capillary_number;
   std::vector<std::string> files;
-  std::vector<CellTrack> cells;  ///< ordered by id
+  std::vector<std::string> skipped;  ///< checkpoint files among the inputs (not read)
+  std::vector<CellTrack> cells;      ///< ordered by id
 };
 
 /// `dir/name-cells-3.h5` -> `dir/name`; a path without that ending loses only ".h5".
@@ -40,7 +41,8 @@ Run read_run_file(const std::string& path);
 /// Merges the files of one run (same stem, geometry and scene; cells must not repeat).
 Run merge_runs(std::vector<Run> parts);
 
-/// read_run_file on each path, then merge_runs.
+/// read_run_file on each path, then merge_runs. Checkpoints (`*.ckpt.h5`, which the shell glob
+/// `<stem>-cells-*.h5` also matches) are skipped and listed in `skipped`.
 Run read_run(const std::vector<std::string>& paths);
 
 }  // namespace dld::analysis

@@ -76,6 +76,14 @@ TEST(RunFile, MergesTheFilesOfOneRunByFirstCell) {
   EXPECT_DOUBLE_EQ(r.cells[2].position.front()[1], 9.0);
   EXPECT_DOUBLE_EQ(r.cells[0].position.front()[1], 1.0);
   EXPECT_EQ(r.files.size(), 2u);
+  // A checkpoint beside them (matched by the glob <stem>-cells-*.h5) is skipped, not read.
+  std::ofstream(dir + "/run-cells-0.ckpt.h5") << "checkpoint\n";
+  const analysis::Run with_ckpt =
+      read_run({dir + "/run-cells-0.ckpt.h5", dir + "/run-cells-0.h5", dir + "/run-cells-1.h5"});
+  EXPECT_EQ(with_ckpt.cells.size(), 3u);
+  ASSERT_EQ(with_ckpt.skipped.size(), 1u);
+  EXPECT_NE(error_of([&] { read_run({dir + "/run-cells-0.ckpt.h5"}); }).find("a checkpoint"),
+            std::string::npos);
 }
 
 TEST(RunFile, RefusesFilesOfDifferentRunsOrRepeatedCells) {
