@@ -13,6 +13,7 @@
 namespace dld::analysis {
 namespace {
 
+using testing::error_of;
 using testing::FileFacts;
 using testing::track;
 using testing::write_run_file;
@@ -20,17 +21,6 @@ using testing::write_run_file;
 CellTrack line(int id, double y0, double slope) {
   return track(
       id, 2.0, y0, 5.0, [slope](double c) { return slope * c; }, 50);
-}
-
-/// The InputError message of f(), or "" if it does not throw one.
-template <class F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(RunFile, StemDropsTheCellsSuffix) {
