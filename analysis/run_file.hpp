@@ -2,7 +2,8 @@
 // The cells run files written by dld-membrane (`<stem>-cells-K.h5`, one per membrane process):
 // /cells/samples rows = step, then per cell centroid x y z [um, device frame, unwrapped] and
 // volume [um^3]; attributes on /cells name the run's geometry. The files of one run are merged by
-// their first_cell attribute.
+// their first_cell attribute. A file with frame = "box" (centroids folded into the unit cell) is
+// unwrapped into device coordinates on reading.
 #pragma once
 #include <array>
 #include <optional>

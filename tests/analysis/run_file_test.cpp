@@ -7,6 +7,7 @@
 
 #include <fstream>
 
+#include "shared/dld_geometry.hpp"
 #include "shared/input_error.hpp"
 #include "synthetic.hpp"
 
@@ -45,6 +46,30 @@ TEST(RunFile, ReadsWhatWasWritten) {
   EXPECT_DOUBLE_EQ(r.cells[0].position.back()[1], 1.0 + 5 * 4.4);
   EXPECT_DOUBLE_EQ(r.cells[1].position.back()[0], 2.0 + 5 * 32.0);
   EXPECT_DOUBLE_EQ(r.cells[1].step[3], 300.0);
+}
+
+TEST(RunFile, BoxFrameFilesAreUnwrapped) {
+  // A displaced cell (crossing x and y faces) stored folded into the box comes back unchanged.
+  const std::string dir = testing::temp_dir("box");
+  const CellTrack device = track(
+      0, 3.0, 30.0, 6.0, [](double c) { return 4.4 * c + 1.5; }, 300);
+  CellTrack box = device;
+  const DldCell cell{32.0, 10.0, 4.8, 4.4};
+  for (auto& p : box.position) {
+    p = wrap_into_box(cell, p).position;
+  }
+  write_run_file(dir + "/run-cells-0.h5", {box}, {.d = 4.4});
+  {
+    H5File h(dir + "/run-cells-0.h5", H5File::Mode::kReadWrite);
+    h.attribute("/cells", "frame", std::string("box"));
+  }
+  const analysis::Run r = read_run_file(dir + "/run-cells-0.h5");
+  ASSERT_EQ(r.cells.size(), 1u);
+  EXPECT_LT(box.position.back()[0] - device.position.back()[0], -100.0);  // it was folded
+  for (std::size_t i = 0; i < device.position.size(); ++i) {
+    EXPECT_NEAR(r.cells[0].position[i][0], device.position[i][0], 1e-9) << i;
+    EXPECT_NEAR(r.cells[0].position[i][1], device.position[i][1], 1e-9) << i;
+  }
 }
 
 TEST(RunFile, CapillaryNumberIsOptional) {
@@ -126,9 +151,9 @@ TEST(RunFile, BadInputIsOneLineNamingTheFileAndWhatWasExpected) {
   write_run_file(dir + "/frame-cells-0.h5", {line(0, 1.0, 0.0)}, {});
   {
     H5File h(dir + "/frame-cells-0.h5", H5File::Mode::kReadWrite);
-    h.attribute("/cells", "frame", std::string("box"));
+    h.attribute("/cells", "frame", std::string("lab"));
   }
-  expect_error(dir + "/frame-cells-0.h5", "expected 'device'");
+  expect_error(dir + "/frame-cells-0.h5", "expected 'device' (or 'box')");
 }
 
 }  // namespace
