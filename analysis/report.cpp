@@ -61,11 +61,14 @@ bool correct_outlet(const ExpectedMode& expected, int outlet) {
 
 std::string format_report(const Run& run, const RunAnalysis& a) {
   std::string s = fmt::format(
-      "run {} (scene {}): {} cells in {} file(s), lambda = {} um, d = {} um (d/lambda = {:.4f}), "
+      "run {} (scene {}): {} cell(s) in {} file(s), lambda = {} um, d = {} um (d/lambda = {:.4f}), "
       "Ca = {}\n",
       run.stem, run.scene_name, run.cells.size(), run.files.size(), run.lambda_um, run.row_shift_um,
       run.row_shift_um / run.lambda_um,
       run.capillary_number ? fmt::format("{}", *run.capillary_number) : std::string("not given"));
+  for (const auto& f : run.skipped) {
+    s += fmt::format("note: skipped {} (a checkpoint, not a run file)\n", f);
+  }
   s += fmt::format("expected mode: {} ({})\n",
                    a.expected.known() ? to_string(a.expected.mode) : "unknown", a.expected.source);
   if (!a.expected.known()) {
@@ -87,7 +90,7 @@ std::string format_report(const Run& run, const RunAnalysis& a) {
   }
   if (a.expected.known()) {
     s += fmt::format(
-        "{} over {} cells: mean {:.4f} +- {} (standard deviation); ceiling of p_fD: "
+        "{} over {} cell(s): mean +- standard deviation {:.4f} +- {}; ceiling of p_fD: "
         "d/lambda = {:.4f}\n",
         pf, a.p_f.n, a.p_f.mean,
         std::isfinite(a.p_f.std) ? fmt::format("{:.4f}", a.p_f.std) : "n/a (one cell)",

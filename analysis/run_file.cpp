@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <regex>
 
+#include "analysis/unwrap.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
 
@@ -51,8 +52,10 @@ Run read_run_file(const std::string& path) {
         "{}: /cells pillar_spacing_um = {}, row_shift_um = {}: expected 0 <= d < lambda", path,
         r.lambda_um, r.row_shift_um));
   }
-  if (const auto frame = f.read_attribute_string("/cells", "frame"); frame != "device") {
-    throw InputError(fmt::format("{}: /cells frame = '{}': expected 'device'", path, frame));
+  const auto frame = f.read_attribute_string("/cells", "frame");
+  if (frame != "device" && frame != "box") {
+    throw InputError(
+        fmt::format("{}: /cells frame = '{}': expected 'device' (or 'box')", path, frame));
   }
   r.scene_name = f.read_attribute_string("/cells", "scene_name");
   try {
@@ -82,6 +85,10 @@ Run read_run_file(const std::string& path) {
         throw InputError(fmt::format("{}: /cells/samples row {}: cell {} has a non-finite centroid",
                                      path, i, t.id));
       }
+    }
+    if (frame == "box") {  // folded into the unit cell: back to device coordinates (SPEC 7)
+      t.position =
+          unwrap_box_trajectory(DldCell{r.lambda_um, 0.0, 0.0, r.row_shift_um}, t.position);
     }
     r.cells.push_back(std::move(t));
   }
@@ -133,11 +140,22 @@ Run merge_runs(std::vector<Run> parts) {
 
 Run read_run(const std::vector<std::string>& paths) {
   std::vector<Run> parts;
+  std::vector<std::string> skipped;
   parts.reserve(paths.size());
   for (const auto& p : paths) {
-    parts.push_back(read_run_file(p));
+    if (p.ends_with(".ckpt.h5")) {
+      skipped.push_back(p);
+    } else {
+      parts.push_back(read_run_file(p));
+    }
   }
-  return merge_runs(std::move(parts));
+  if (parts.empty() && !skipped.empty()) {
+    throw InputError(fmt::format("{}: a checkpoint, not a run file: expected <stem>-cells-K.h5",
+                                 skipped.front()));
+  }
+  Run r = merge_runs(std::move(parts));
+  r.skipped = std::move(skipped);
+  return r;
 }
 
 }  // namespace dld::analysis

@@ -2,7 +2,8 @@
 // The cells run files written by dld-membrane (`<stem>-cells-K.h5`, one per membrane process):
 // /cells/samples rows = step, then per cell centroid x y z [um, device frame, unwrapped] and
 // volume [um^3]; attributes on /cells name the run's geometry. The files of one run are merged by
-// their first_cell attribute.
+// their first_cell attribute. A file with frame = "box" (centroids folded into the unit cell) is
+// unwrapped into device coordinates on reading.
 #pragma once
 #include <array>
 #include <optional>
@@ -27,7 +28,8 @@ struct Run {
   double dt_s = 0;
   std::optional<double> capillary_number;
   std::vector<std::string> files;
-  std::vector<CellTrack> cells;  ///< ordered by id
+  std::vector<std::string> skipped;  ///< checkpoint files among the inputs (not read)
+  std::vector<CellTrack> cells;      ///< ordered by id
 };
 
 /// `dir/name-cells-3.h5` -> `dir/name`; a path without that ending loses only ".h5".
@@ -40,7 +42,8 @@ Run read_run_file(const std::string& path);
 /// Merges the files of one run (same stem, geometry and scene; cells must not repeat).
 Run merge_runs(std::vector<Run> parts);
 
-/// read_run_file on each path, then merge_runs.
+/// read_run_file on each path, then merge_runs. Checkpoints (`*.ckpt.h5`, which the shell glob
+/// `<stem>-cells-*.h5` also matches) are skipped and listed in `skipped`.
 Run read_run(const std::vector<std::string>& paths);
 
 }  // namespace dld::analysis

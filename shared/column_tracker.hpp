@@ -7,9 +7,9 @@
 // (x = x0 + c lambda, interpolated between samples, so the phase within a column does not bias it);
 // after the first column (entry transient) the mean lateral shift per column
 // s = (y(c) - y(1)) / (c - 1) is ~d for displacement and ~0 for zigzag (a zigzag cell follows the
-// flow and keeps its device y). The mode is the nearer of the two; it is "certain" once the cell has
-// passed one whole zigzag period, ceil(lambda/d) + 1 columns and at least 5, with s within d/5 of
-// it. A cell that never gets there (s stays in between) is reported "mixed" when the run ends.
+// flow and keeps its device y). The mode is the nearer of the two; it is "certain" once the cell
+// has passed one whole zigzag period, ceil(lambda/d) + 1 columns and at least 5, with s within d/5
+// of it. A cell that never gets there (s stays in between) is reported "mixed" when the run ends.
 #pragma once
 #include <Eigen/Core>
 #include <string>

@@ -33,7 +33,7 @@ Result run(const std::string& command, const std::string& dir) {
 }
 
 /// The command for the run of two files, evaluated at 10 pillars against displacement.
-std::string fmt_command(const std::string& dir, bool plots) {
+std::string two_file_command(const std::string& dir, bool plots) {
   return std::string(DLD_ANALYZE_EXE) + " " + dir + "/run-cells-0.h5 " + dir +
          "/run-cells-1.h5 --pillars 10 --expected-mode displacement -o " + dir + "/out" +
          (plots ? "" : " --no-plots");
@@ -70,7 +70,7 @@ TEST(DldAnalyze, WritesTablesAndPlotsForARunOfTwoFiles) {
                      2, 4.0, 12.0, 12.5, [](double) { return 0.0; }, 600)},
                  {.first_cell = 2, .d = d});
   const bool plots = have_matplotlib();
-  const Result r = run(fmt_command(dir, plots), dir);
+  const Result r = run(two_file_command(dir, plots), dir);
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("expected mode: displacement (given by --expected-mode)"),
             std::string::npos)

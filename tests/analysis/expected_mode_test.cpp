@@ -14,14 +14,7 @@ namespace {
 
 const std::string kMap = std::string(DLD_SOURCE_DIR) + "/configs/study/dilute_modes.toml";
 
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using testing::error_of;
 
 TEST(ExpectedMode, TheStudyMapHasAllNineCases) {
   const auto map = read_dilute_modes(kMap);

@@ -7,12 +7,14 @@
 
 #include <fstream>
 
+#include "shared/dld_geometry.hpp"
 #include "shared/input_error.hpp"
 #include "synthetic.hpp"
 
 namespace dld::analysis {
 namespace {
 
+using testing::error_of;
 using testing::FileFacts;
 using testing::track;
 using testing::write_run_file;
@@ -20,17 +22,6 @@ using testing::write_run_file;
 CellTrack line(int id, double y0, double slope) {
   return track(
       id, 2.0, y0, 5.0, [slope](double c) { return slope * c; }, 50);
-}
-
-/// The InputError message of f(), or "" if it does not throw one.
-template <class F>
-std::string error_of(F f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
 }
 
 TEST(RunFile, StemDropsTheCellsSuffix) {
@@ -57,6 +48,30 @@ TEST(RunFile, ReadsWhatWasWritten) {
   EXPECT_DOUBLE_EQ(r.cells[1].step[3], 300.0);
 }
 
+TEST(RunFile, BoxFrameFilesAreUnwrapped) {
+  // A displaced cell (crossing x and y faces) stored folded into the box comes back unchanged.
+  const std::string dir = testing::temp_dir("box");
+  const CellTrack device = track(
+      0, 3.0, 30.0, 6.0, [](double c) { return 4.4 * c + 1.5; }, 300);
+  CellTrack box = device;
+  const DldCell cell{32.0, 10.0, 4.8, 4.4};
+  for (auto& p : box.position) {
+    p = wrap_into_box(cell, p).position;
+  }
+  write_run_file(dir + "/run-cells-0.h5", {box}, {.d = 4.4});
+  {
+    H5File h(dir + "/run-cells-0.h5", H5File::Mode::kReadWrite);
+    h.attribute("/cells", "frame", std::string("box"));
+  }
+  const analysis::Run r = read_run_file(dir + "/run-cells-0.h5");
+  ASSERT_EQ(r.cells.size(), 1u);
+  EXPECT_LT(box.position.back()[0] - device.position.back()[0], -100.0);  // it was folded
+  for (std::size_t i = 0; i < device.position.size(); ++i) {
+    EXPECT_NEAR(r.cells[0].position[i][0], device.position[i][0], 1e-9) << i;
+    EXPECT_NEAR(r.cells[0].position[i][1], device.position[i][1], 1e-9) << i;
+  }
+}
+
 TEST(RunFile, CapillaryNumberIsOptional) {
   const std::string path = testing::temp_dir("no-ca") + "/run-cells-0.h5";
   write_run_file(path, {line(0, 1.0, 0.0)}, {.with_ca = false});
@@ -76,6 +91,14 @@ TEST(RunFile, MergesTheFilesOfOneRunByFirstCell) {
   EXPECT_DOUBLE_EQ(r.cells[2].position.front()[1], 9.0);
   EXPECT_DOUBLE_EQ(r.cells[0].position.front()[1], 1.0);
   EXPECT_EQ(r.files.size(), 2u);
+  // A checkpoint beside them (matched by the glob <stem>-cells-*.h5) is skipped, not read.
+  std::ofstream(dir + "/run-cells-0.ckpt.h5") << "checkpoint\n";
+  const analysis::Run with_ckpt =
+      read_run({dir + "/run-cells-0.ckpt.h5", dir + "/run-cells-0.h5", dir + "/run-cells-1.h5"});
+  EXPECT_EQ(with_ckpt.cells.size(), 3u);
+  ASSERT_EQ(with_ckpt.skipped.size(), 1u);
+  EXPECT_NE(error_of([&] { read_run({dir + "/run-cells-0.ckpt.h5"}); }).find("a checkpoint"),
+            std::string::npos);
 }
 
 TEST(RunFile, RefusesFilesOfDifferentRunsOrRepeatedCells) {
@@ -128,9 +151,9 @@ TEST(RunFile, BadInputIsOneLineNamingTheFileAndWhatWasExpected) {
   write_run_file(dir + "/frame-cells-0.h5", {line(0, 1.0, 0.0)}, {});
   {
     H5File h(dir + "/frame-cells-0.h5", H5File::Mode::kReadWrite);
-    h.attribute("/cells", "frame", std::string("box"));
+    h.attribute("/cells", "frame", std::string("lab"));
   }
-  expect_error(dir + "/frame-cells-0.h5", "expected 'device'");
+  expect_error(dir + "/frame-cells-0.h5", "expected 'device' (or 'box')");
 }
 
 }  // namespace

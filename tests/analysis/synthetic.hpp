@@ -10,6 +10,7 @@
 
 #include "analysis/run_file.hpp"
 #include "shared/h5file.hpp"
+#include "shared/input_error.hpp"
 
 namespace dld::analysis::testing {
 
@@ -72,6 +73,16 @@ inline void write_run_file(const std::string& path, const std::vector<CellTrack>
   if (f.with_ca) {
     h.attribute("/cells", "capillary_number", f.ca);
   }
+}
+
+/// The InputError message of f(), or "" if it does not throw one.
+inline std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
 }
 
 /// A fresh directory under the system temporary directory for one test.

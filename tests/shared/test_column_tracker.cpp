@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Columns passed and the mode rule of shared/column_tracker.hpp on synthetic centroid paths.
-#include "shared/column_tracker.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
+
+#include "shared/column_tracker.hpp"
 
 namespace dld {
 namespace {
