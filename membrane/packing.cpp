@@ -175,7 +175,7 @@ PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackO
       if (full && gaps.min() > o.clearance) break;  // clear, though short of the margin
       throw InputError(fmt::format(
           "packing {} cells: gaps still below {:.3g} after {} iterations (size {:.3f}, smallest "
-          "gap {:.3g} lattice lengths)",
+          "gap {:.3g} lattice lengths): fewer cells or a shorter contact range",
           o.count, target, rep.iterations, scale, gaps.min()));
     }
     if (full) break;
