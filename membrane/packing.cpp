@@ -141,9 +141,19 @@ PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackO
 
   PackedCells out;
   out.nodes_per_cell = n;
-  Points x = place_shrunk(ref, box, o, o.start_scale, range);
-  const Contact contact(box, {range, kStrengthRel * range * range, true, true, true});
+  // Crowded boxes (many cells, wide contact range): place smaller still, down to a fifth.
   double scale = o.start_scale;
+  Points x;
+  for (;;) {
+    try {
+      x = place_shrunk(ref, box, o, scale, range);
+      break;
+    } catch (const InputError&) {
+      if (scale * 0.8 < 0.2) throw;
+      scale *= 0.8;
+    }
+  }
+  const Contact contact(box, {range, kStrengthRel * range * range, true, true, true});
   PackReport& rep = out.report;
   for (;;) {
     TriMesh ref_s = ref;
@@ -165,7 +175,7 @@ PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackO
       if (full && gaps.min() > o.clearance) break;  // clear, though short of the margin
       throw InputError(fmt::format(
           "packing {} cells: gaps still below {:.3g} after {} iterations (size {:.3f}, smallest "
-          "gap {:.3g} lattice lengths)",
+          "gap {:.3g} lattice lengths): fewer cells or a shorter contact range",
           o.count, target, rep.iterations, scale, gaps.min()));
     }
     if (full) break;

@@ -23,9 +23,10 @@ struct PackOptions {
   /// Every node gap (cell-cell, walls, pillar) must end above this [lattice lengths]: the
   /// contact range of the scene.
   double clearance = 1.0;
-  double start_scale = 0.5;     ///< size of the cells when placed, relative to the rest shape
-  double scale_step = 0.02;     ///< growth per stage (relative size)
-  int max_iterations = 100000;  ///< L-BFGS iterations over all stages before giving up
+  double start_scale = 0.5;  ///< size of the cells when placed, relative to the rest shape
+  double scale_step = 0.02;  ///< growth per stage (relative size)
+  /// L-BFGS iterations over all stages before giving up (the study's states need about 1200).
+  int max_iterations = 20000;
 };
 
 struct PackReport {

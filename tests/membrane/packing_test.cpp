@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
 // Packed initial states at a coarse setting (dx = 0.8 um, 500-face cells): the study's five states
 // are overlap-free and give its haematocrits; the same seed gives the same state, a saved state is
-// reused, the clearance check sees images across the shifted periodic x face.
+// reused (also through a scene with [cells] count), the clearance and inside checks see images
+// across the shifted periodic x face.
 #include "membrane/packing.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "membrane/packing_cache.hpp"
 #include "packing_states.hpp"
@@ -78,6 +81,27 @@ TEST(Packing, SavedStateIsReused) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(first.file), std::string::npos) << e.what();
   }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Packing, SceneWithCountBuildsThePackedCellsAndReusesThem) {
+  std::ifstream in(kScene);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string t = text.str();
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("dld_packing_scene_test_" + std::to_string(getpid()));
+  t.replace(t.find("count = 17"), 10, "count = 3\npacking_cache = \"" + dir.string() + "\"");
+  const Scene scene = parse_scene(t, "packing.toml", false);
+  const MembraneScene m = read_membrane_scene(scene);
+  const CellSet a = build_cells(m, scene);  // packs and saves
+  ASSERT_EQ(a.cell_count(), 3);
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir),
+                          std::filesystem::directory_iterator()),
+            1);
+  const CellSet b = build_cells(m, scene);  // loads
+  EXPECT_EQ((a.positions() - b.positions()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_NEAR(100.0 * haematocrit(a, scene.cell_lu()), 8.0, 1.0);
   std::filesystem::remove_all(dir);
 }
 
