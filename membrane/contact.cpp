@@ -30,7 +30,7 @@ double ContactLaw::force(double s) const {
 }
 
 Contact::Contact(const DldCell& box_lu, const ContactParams& p)
-    : box_(box_lu), p_(p), law_{p.range, p.strength} {
+    : box_(box_lu), p_(p), law_{p.range, p.strength}, skin_(0.3 * p.range) {
   if (!(p.range > 0.0) || !std::isfinite(p.range))
     throw InputError(fmt::format("contact: range must be positive, got {}", p.range));
   if (!(p.strength >= 0.0) || !std::isfinite(p.strength))
@@ -40,14 +40,22 @@ Contact::Contact(const DldCell& box_lu, const ContactParams& p)
                                  p.range, box_lu.lambda, box_lu.depth));
 }
 
-void Contact::build_images(const Points& x, int nodes_per_cell) const {
+void Contact::wrap_nodes(const Points& x) const {
   const int n = static_cast<int>(x.cols());
-  const double L = box_.lambda, rc = p_.range;
-  wrapped_.resize(n);
+  wrapped_.resize(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const Wrapped w = wrap_into_box(box_, {x(0, i), x(1, i), x(2, i)});
+    wrapped_[static_cast<std::size_t>(i)] = {w.position[0], w.position[1], w.position[2]};
+  }
+}
+
+void Contact::build_images(int nodes_per_cell, double cutoff) const {
+  const int n = static_cast<int>(wrapped_.size());
+  const double L = box_.lambda, rc = cutoff;
   image_pos_.clear();
   image_node_.clear();
-  image_pos_.reserve(2 * n);
-  image_node_.reserve(2 * n);
+  image_pos_.reserve(2 * static_cast<std::size_t>(n));
+  image_node_.reserve(2 * static_cast<std::size_t>(n));
   double zmin = 1e300, zmax = -1e300;
   auto add_y = [&](Eigen::Vector3d q, int i) {
     image_pos_.push_back(q);
@@ -62,9 +70,7 @@ void Contact::build_images(const Points& x, int nodes_per_cell) const {
     return q;
   };
   for (int i = 0; i < n; ++i) {
-    const Wrapped w = wrap_into_box(box_, {x(0, i), x(1, i), x(2, i)});
-    const Eigen::Vector3d q(w.position[0], w.position[1], w.position[2]);
-    wrapped_[i] = q;
+    const Eigen::Vector3d& q = wrapped_[static_cast<std::size_t>(i)];
     zmin = std::min(zmin, q.z());
     zmax = std::max(zmax, q.z());
     add_y(q, i);
@@ -72,38 +78,101 @@ void Contact::build_images(const Points& x, int nodes_per_cell) const {
     if (q.x() < rc) add_y(fold_y(q + Eigen::Vector3d(L, box_.shift, 0)), i);
     if (q.x() >= L - rc) add_y(fold_y(q - Eigen::Vector3d(L, box_.shift, 0)), i);
   }
-  // Bins of side >= r_c over [-r_c, L + r_c)^2 x [zmin, zmax].
+  // Bins of side >= cutoff over [-cutoff, L + cutoff)^2 x [zmin, zmax].
   nbx_ = std::max(1, static_cast<int>(std::floor((L + 2 * rc) / rc)));
   bin_ = (L + 2 * rc) / nbx_;
   nby_ = nbx_;
   z0_ = zmin;
   nbz_ = std::max(1, static_cast<int>(std::floor((zmax - zmin) / bin_)) + 1);
   const int nb = nbx_ * nby_ * nbz_;
-  bin_start_.assign(nb + 1, 0);
+  bin_start_.assign(static_cast<std::size_t>(nb) + 1, 0);
   const int m = static_cast<int>(image_pos_.size());
-  std::vector<int> bin_of(m);
+  std::vector<int> bin_of(static_cast<std::size_t>(m));
   for (int k = 0; k < m; ++k) {
-    const Eigen::Vector3d& q = image_pos_[k];
+    const Eigen::Vector3d& q = image_pos_[static_cast<std::size_t>(k)];
     const int bx = std::clamp(static_cast<int>((q.x() + rc) / bin_), 0, nbx_ - 1);
     const int by = std::clamp(static_cast<int>((q.y() + rc) / bin_), 0, nby_ - 1);
     const int bz = std::clamp(static_cast<int>((q.z() - z0_) / bin_), 0, nbz_ - 1);
-    bin_of[k] = (bz * nby_ + by) * nbx_ + bx;
-    bin_start_[bin_of[k] + 1]++;
+    bin_of[static_cast<std::size_t>(k)] = (bz * nby_ + by) * nbx_ + bx;
+    bin_start_[static_cast<std::size_t>(bin_of[static_cast<std::size_t>(k)]) + 1]++;
   }
   for (int b = 0; b < nb; ++b) bin_start_[b + 1] += bin_start_[b];
-  sorted_.resize(m);
+  sorted_.resize(static_cast<std::size_t>(m));
   std::vector<int> fill(bin_start_.begin(), bin_start_.end() - 1);
   for (int k = 0; k < m; ++k) {
-    const Eigen::Vector3d& q = image_pos_[k];
-    sorted_[fill[bin_of[k]]++] = {q.x(), q.y(), q.z(), image_node_[k] / nodes_per_cell};
+    const auto kk = static_cast<std::size_t>(k);
+    const Eigen::Vector3d& q = image_pos_[kk];
+    const int node = image_node_[kk];
+    sorted_[static_cast<std::size_t>(fill[static_cast<std::size_t>(bin_of[kk])]++)] = {
+        q.x(), q.y(), q.z(), node / nodes_per_cell, node};
   }
+}
+
+bool Contact::pairs_stale(const Points& x, int nodes_per_cell) const {
+  if (x.cols() != x_built_.cols() || nodes_per_cell != built_nodes_per_cell_) return true;
+  const double limit = 0.25 * skin_ * skin_;  // (skin / 2)^2
+  return ((x - x_built_).colwise().squaredNorm().array() > limit).any();
+}
+
+void Contact::build_pairs(const Points& x, int nodes_per_cell) const {
+  const double cut = p_.range + skin_, cut2 = cut * cut;
+  build_images(nodes_per_cell, cut);
+  const int n = static_cast<int>(x.cols());
+  std::vector<std::vector<Neighbour>> lists(static_cast<std::size_t>(n));
+#pragma omp parallel for schedule(static) if (n > 1024)
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d& q = wrapped_[static_cast<std::size_t>(i)];
+    const int cell = i / nodes_per_cell;
+    const int bx = std::clamp(static_cast<int>((q.x() + cut) / bin_), 0, nbx_ - 1);
+    const int by = std::clamp(static_cast<int>((q.y() + cut) / bin_), 0, nby_ - 1);
+    const int bz = std::clamp(static_cast<int>((q.z() - z0_) / bin_), 0, nbz_ - 1);
+    const int x_lo = std::max(0, bx - 1), x_hi = std::min(nbx_ - 1, bx + 1);
+    auto& list = lists[static_cast<std::size_t>(i)];
+    for (int z = std::max(0, bz - 1); z <= std::min(nbz_ - 1, bz + 1); ++z)
+      for (int y = std::max(0, by - 1); y <= std::min(nby_ - 1, by + 1); ++y) {
+        const int row = (z * nby_ + y) * nbx_;
+        for (int s = bin_start_[static_cast<std::size_t>(row + x_lo)];
+             s < bin_start_[static_cast<std::size_t>(row + x_hi + 1)]; ++s) {
+          const Image& im = sorted_[static_cast<std::size_t>(s)];
+          if (im.cell == cell) continue;
+          const Eigen::Vector3d d(q.x() - im.x, q.y() - im.y, q.z() - im.z);
+          if (d.squaredNorm() >= cut2) continue;
+          // The periodic translation between the unwrapped nodes, fixed until the next build:
+          // kx (lambda, d, 0) + ky (0, lambda, 0), rounded to those whole numbers so that it is
+          // exact (and the same from any build).
+          const Eigen::Vector3d t = x.col(i) - x.col(im.node) - d;
+          const double kx = std::round(t.x() / box_.lambda);
+          const double ky = std::round((t.y() - kx * box_.shift) / box_.lambda);
+          list.push_back({im.node, Eigen::Vector3d(kx * box_.lambda,
+                                                   kx * box_.shift + ky * box_.lambda, 0.0)});
+        }
+      }
+    // A canonical order (by node, then translation): the sum over a node's pairs is then the same
+    // whichever step built the list.
+    std::sort(list.begin(), list.end(), [](const Neighbour& a, const Neighbour& b) {
+      if (a.node != b.node) return a.node < b.node;
+      return std::lexicographical_compare(a.shift.data(), a.shift.data() + 3, b.shift.data(),
+                                          b.shift.data() + 3);
+    });
+  }
+  pair_start_.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (int i = 0; i < n; ++i)
+    pair_start_[static_cast<std::size_t>(i) + 1] =
+        pair_start_[static_cast<std::size_t>(i)] +
+        static_cast<int>(lists[static_cast<std::size_t>(i)].size());
+  pairs_list_.clear();
+  pairs_list_.reserve(static_cast<std::size_t>(pair_start_.back()));
+  for (auto& l : lists) pairs_list_.insert(pairs_list_.end(), l.begin(), l.end());
+  x_built_ = x;
+  built_nodes_per_cell_ = nodes_per_cell;
 }
 
 double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
   const int n = static_cast<int>(x.cols());
   const double rc = p_.range, rc2 = rc * rc;
   const bool pairs = p_.cells && n > nodes_per_cell;
-  if (pairs || p_.walls || p_.pillar) build_images(x, nodes_per_cell);
+  wrap_nodes(x);
+  if (pairs && pairs_stale(x, nodes_per_cell)) build_pairs(x, nodes_per_cell);
   double energy = 0.0;
   long pair_count = 0;
 #pragma omp parallel for reduction(+ : energy, pair_count) schedule(static) if (n > 1024)
@@ -131,26 +200,17 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
       }
     }
     if (pairs) {
-      const int cell = i / nodes_per_cell;
-      const int bx = std::clamp(static_cast<int>((q.x() + rc) / bin_), 0, nbx_ - 1);
-      const int by = std::clamp(static_cast<int>((q.y() + rc) / bin_), 0, nby_ - 1);
-      const int bz = std::clamp(static_cast<int>((q.z() - z0_) / bin_), 0, nbz_ - 1);
-      const int x_lo = std::max(0, bx - 1), x_hi = std::min(nbx_ - 1, bx + 1);
-      for (int z = std::max(0, bz - 1); z <= std::min(nbz_ - 1, bz + 1); ++z)
-        for (int y = std::max(0, by - 1); y <= std::min(nby_ - 1, by + 1); ++y) {
-          const int row = (z * nby_ + y) * nbx_;
-          for (int s = bin_start_[row + x_lo]; s < bin_start_[row + x_hi + 1]; ++s) {
-            const Image& im = sorted_[s];
-            if (im.cell == cell) continue;
-            const Eigen::Vector3d d(q.x() - im.x, q.y() - im.y, q.z() - im.z);
-            const double r2 = d.squaredNorm();
-            if (r2 >= rc2) continue;
-            const double r = std::sqrt(r2);
-            energy += 0.5 * law_.energy(r);  // each pair is seen from both sides
-            ++pair_count;
-            fi += law_.force(r) * d / std::max(r, 1e-12 * rc);
-          }
-        }
+      for (int p = pair_start_[static_cast<std::size_t>(i)];
+           p < pair_start_[static_cast<std::size_t>(i) + 1]; ++p) {
+        const Neighbour& nb = pairs_list_[static_cast<std::size_t>(p)];
+        const Eigen::Vector3d d = x.col(i) - x.col(nb.node) - nb.shift;
+        const double r2 = d.squaredNorm();
+        if (r2 >= rc2) continue;
+        const double r = std::sqrt(r2);
+        energy += 0.5 * law_.energy(r);  // each pair is seen from both sides
+        ++pair_count;
+        fi += law_.force(r) * d / std::max(r, 1e-12 * rc);
+      }
     }
     if (f) f->col(i) += fi;
   }

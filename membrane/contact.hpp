@@ -5,7 +5,11 @@
 // zero with zero slope at r_c and diverging as 1/s^2; below s_min = 0.05 r_c it continues
 // linearly so that an overlapped node gets a large finite push instead of a blow-up.
 // Cell-cell pairs come from a cell list over the box with ghost images, honouring periodic y and
-// shifted-periodic x (leaving at x = lambda at height y re-enters at x = 0 at y - d).
+// shifted-periodic x (leaving at x = lambda at height y re-enters at x = 0 at y - d), kept as a
+// neighbour list of pairs within r_c + skin (Verlet) and rebuilt only when some node has moved more
+// than skin / 2 since the last build, so every pair within r_c is always in it. Each node's list is
+// sorted, so the forces do not depend on the step at which the list was built (a resumed run gives
+// the same numbers as an uninterrupted one).
 #pragma once
 #include <vector>
 
@@ -46,7 +50,15 @@ class Contact {
 
  private:
   double evaluate(const Points& x, int nodes_per_cell, Points* f) const;
-  void build_images(const Points& x, int nodes_per_cell) const;
+  /// Folds every node into the box (walls and pillar act on folded positions).
+  void wrap_nodes(const Points& x) const;
+  /// Images of the folded nodes within `cutoff` of a periodic face, binned by cells of side
+  /// >= cutoff.
+  void build_images(int nodes_per_cell, double cutoff) const;
+  /// The neighbour list: for each node, the nodes of other cells (with the periodic translation
+  /// of their image) within r_c + skin.
+  void build_pairs(const Points& x, int nodes_per_cell) const;
+  bool pairs_stale(const Points& x, int nodes_per_cell) const;
 
   DldCell box_;
   ContactParams p_;
@@ -57,8 +69,17 @@ class Contact {
   mutable std::vector<int> image_node_;
   struct Image {
     double x, y, z;
-    int cell;
+    int cell, node;
   };
+  struct Neighbour {
+    int node;
+    Eigen::Vector3d shift;  ///< x_i - (x_node + shift) is the pair's separation (unwrapped x)
+  };
+  double skin_ = 0.0;
+  mutable std::vector<int> pair_start_;  // node i's neighbours: pairs_[pair_start_[i] .. [i + 1])
+  mutable std::vector<Neighbour> pairs_list_;
+  mutable Points x_built_;  // node positions at the last build
+  mutable int built_nodes_per_cell_ = 0;
   mutable std::vector<Image> sorted_;  // images in bin order, so a row of bins is one range
   mutable std::vector<int> bin_start_;
   mutable int nbx_ = 0, nby_ = 0, nbz_ = 0;

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "shared/input_error.hpp"
 #include "test_meshes.hpp"
 
@@ -99,6 +101,37 @@ TEST(Contact, ForceIsMinusGradientOfEnergy) {
   Points fc = Points::Zero(3, 2 * n);
   make(false, false, true).add_forces(x, n, fc);
   EXPECT_LT(fc.rowwise().sum().norm(), 1e-12 * fc.colwise().norm().sum());
+}
+
+TEST(Contact, NeighbourListGivesTheForcesOfAFreshSearchAsNodesMove) {
+  // 150 "cells" of 8 nodes at random in a thin slab (many pairs, many across the periodic and
+  // shifted faces). One Contact object is reused while the nodes drift (its neighbour list is
+  // rebuilt only when some node moved more than skin / 2); a fresh object searches anew each time.
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int cells = 150, per = 8, n = cells * per;
+  Points x(3, n);
+  for (int k = 0; k < cells; ++k) {
+    const Eigen::Vector3d c(80.0 * u(rng), 80.0 * u(rng), 2.0 + 8.0 * u(rng));
+    for (int i = 0; i < per; ++i)
+      x.col(k * per + i) = c + Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 3.0;
+  }
+  const Contact reused = make(true, true, true);
+  long pairs_seen = 0;
+  for (int step = 0; step < 40; ++step) {
+    for (int i = 0; i < n; ++i)
+      x.col(i) += Eigen::Vector3d(u(rng) - 0.3, u(rng) - 0.5, u(rng) - 0.5) * 0.08;
+    if (step == 20) x.middleCols(5 * per, per).row(0).array() += 80.0;  // a cell one box on
+    Points fa = Points::Zero(3, n), fb = Points::Zero(3, n);
+    const double ea = reused.add_forces(x, per, fa);
+    const Contact fresh = make(true, true, true);
+    const double eb = fresh.add_forces(x, per, fb);
+    ASSERT_EQ(reused.last_pair_count(), fresh.last_pair_count()) << "step " << step;
+    EXPECT_LE((fa - fb).cwiseAbs().maxCoeff(), 1e-12 * fb.cwiseAbs().maxCoeff()) << step;
+    EXPECT_NEAR(ea, eb, 1e-12 * std::abs(eb)) << step;
+    pairs_seen += fresh.last_pair_count();
+  }
+  EXPECT_GT(pairs_seen, 40 * 40) << "the test must exercise many pairs";
 }
 
 TEST(Contact, RefusesBadParameters) {
