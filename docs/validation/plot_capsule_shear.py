@@ -46,6 +46,13 @@ ax2.plot(ca_line, 25 / 4 * ca_line, ":", color="gray", label="small deformation,
 ax2.plot(ca_ref, d_ref, "ks--", mfc="none", label="Ramanujan & Pozrikidis 1998")
 ax2.errorbar(ca_ref, d_ref, yerr=0.05 * np.array(d_ref), fmt="none", ecolor="k", capsize=3, lw=0.8)
 ax2.plot(ca_sim, d_sim, "o-", color="C3", label="this code (a = 6, steady mean)")
+try:  # resolution check: a = 8 at Ca = 0.025, run to gammadot t = 2.5 only
+    a8 = load("docs/validation/capsule_shear_ca0.025_a8.csv")
+    d8 = a8[a8[:, 0] >= SETTLED * a8[-1, 0], 1].mean()
+    ax2.plot([0.025], [d8], "^", color="C2", label=r"a = 8 (mean over $\dot\gamma t$ in [1.75, 2.5])")
+    print(f"Ca 0.025, a = 8: D {d8:.4f} error {100 * (d8 / d_ref[0] - 1):+.2f} %")
+except OSError:
+    pass
 ax2.set_xlabel(r"Ca = $\mu\dot\gamma a / E_s$, $E_s = 3 G_s$")
 ax2.set_ylabel("steady D")
 ax2.set_title("steady D against Ca (error bars: 5 %)", fontsize=9)
