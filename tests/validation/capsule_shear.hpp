@@ -28,7 +28,7 @@ struct CapsuleShearSetup {
   double reynolds = 0.1;          ///< Re = gammadot a^2 / nu
   double tau = 1.0;               ///< relaxation time (TRT, Lambda = 3/16): nu = (tau - 1/2)/3
   /// Ca = mu gammadot a / E_s with E_s = 3 G_s: the convention of the reference data
-  /// (Ramanujan & Pozrikidis 1998; tests/data/README-capsule.md).
+  /// (Ramanujan & Pozrikidis 1998; tests/data/capsule_shear/README.md).
   double capillary = 0.1;
   MembraneLaw law = MembraneLaw::neo_hookean;
   double skalak_c = 1.0;   ///< C = kappa_alpha/kappa_s (Skalak only)
