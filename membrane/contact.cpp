@@ -14,7 +14,9 @@ constexpr double kMinFraction = 0.05;  // s_min / r_c
 }
 
 double ContactLaw::energy(double s) const {
-  if (s >= rc) return 0.0;
+  if (s >= rc) {
+    return 0.0;
+  }
   const double smin = kMinFraction * rc;
   if (s < smin) {
     const double e = eps * (rc - smin) * (rc - smin) / (smin * rc);
@@ -24,20 +26,25 @@ double ContactLaw::energy(double s) const {
 }
 
 double ContactLaw::force(double s) const {
-  if (s >= rc) return 0.0;
+  if (s >= rc) {
+    return 0.0;
+  }
   s = std::max(s, kMinFraction * rc);
   return eps * (rc * rc - s * s) / (rc * s * s);
 }
 
 Contact::Contact(const DldCell& box_lu, const ContactParams& p)
     : box_(box_lu), p_(p), law_{p.range, p.strength}, skin_(0.3 * p.range) {
-  if (!(p.range > 0.0) || !std::isfinite(p.range))
+  if (!(p.range > 0.0) || !std::isfinite(p.range)) {
     throw InputError(fmt::format("contact: range must be positive, got {}", p.range));
-  if (!(p.strength >= 0.0) || !std::isfinite(p.strength))
+  }
+  if (!(p.strength >= 0.0) || !std::isfinite(p.strength)) {
     throw InputError(fmt::format("contact: strength must be >= 0, got {}", p.strength));
-  if (p.range > 0.25 * std::min(box_lu.lambda, box_lu.depth * 2.0))
+  }
+  if (p.range > 0.25 * std::min(box_lu.lambda, box_lu.depth * 2.0)) {
     throw InputError(fmt::format("contact: range {} is too large for the box (lambda {}, depth {})",
                                  p.range, box_lu.lambda, box_lu.depth));
+  }
 }
 
 void Contact::wrap_nodes(const Points& x) const {
@@ -60,13 +67,18 @@ void Contact::build_images(int nodes_per_cell, double cutoff) const {
   auto add_y = [&](Eigen::Vector3d q, int i) {
     image_pos_.push_back(q);
     image_node_.push_back(i);
-    if (q.y() < rc) image_pos_.push_back(q + Eigen::Vector3d(0, L, 0)), image_node_.push_back(i);
-    if (q.y() >= L - rc)
+    if (q.y() < rc) {
+      image_pos_.push_back(q + Eigen::Vector3d(0, L, 0)), image_node_.push_back(i);
+    }
+    if (q.y() >= L - rc) {
       image_pos_.push_back(q - Eigen::Vector3d(0, L, 0)), image_node_.push_back(i);
+    }
   };
   auto fold_y = [&](Eigen::Vector3d q) {
     q.y() -= L * std::floor(q.y() / L);
-    if (q.y() >= L) q.y() -= L;
+    if (q.y() >= L) {
+      q.y() -= L;
+    }
     return q;
   };
   for (int i = 0; i < n; ++i) {
@@ -75,8 +87,12 @@ void Contact::build_images(int nodes_per_cell, double cutoff) const {
     zmax = std::max(zmax, q.z());
     add_y(q, i);
     // Shifted periodic x: (e, y) near x = 0 is the same point as (lambda + e, y + d).
-    if (q.x() < rc) add_y(fold_y(q + Eigen::Vector3d(L, box_.shift, 0)), i);
-    if (q.x() >= L - rc) add_y(fold_y(q - Eigen::Vector3d(L, box_.shift, 0)), i);
+    if (q.x() < rc) {
+      add_y(fold_y(q + Eigen::Vector3d(L, box_.shift, 0)), i);
+    }
+    if (q.x() >= L - rc) {
+      add_y(fold_y(q - Eigen::Vector3d(L, box_.shift, 0)), i);
+    }
   }
   // Bins of side >= cutoff over [-cutoff, L + cutoff)^2 x [zmin, zmax].
   nbx_ = std::max(1, static_cast<int>(std::floor((L + 2 * rc) / rc)));
@@ -96,7 +112,9 @@ void Contact::build_images(int nodes_per_cell, double cutoff) const {
     bin_of[static_cast<std::size_t>(k)] = (bz * nby_ + by) * nbx_ + bx;
     bin_start_[static_cast<std::size_t>(bin_of[static_cast<std::size_t>(k)]) + 1]++;
   }
-  for (int b = 0; b < nb; ++b) bin_start_[b + 1] += bin_start_[b];
+  for (int b = 0; b < nb; ++b) {
+    bin_start_[b + 1] += bin_start_[b];
+  }
   sorted_.resize(static_cast<std::size_t>(m));
   std::vector<int> fill(bin_start_.begin(), bin_start_.end() - 1);
   for (int k = 0; k < m; ++k) {
@@ -109,7 +127,9 @@ void Contact::build_images(int nodes_per_cell, double cutoff) const {
 }
 
 bool Contact::pairs_stale(const Points& x, int nodes_per_cell) const {
-  if (x.cols() != x_built_.cols() || nodes_per_cell != built_nodes_per_cell_) return true;
+  if (x.cols() != x_built_.cols() || nodes_per_cell != built_nodes_per_cell_) {
+    return true;
+  }
   const double limit = 0.25 * skin_ * skin_;  // (skin / 2)^2
   return ((x - x_built_).colwise().squaredNorm().array() > limit).any();
 }
@@ -128,15 +148,19 @@ void Contact::build_pairs(const Points& x, int nodes_per_cell) const {
     const int bz = std::clamp(static_cast<int>((q.z() - z0_) / bin_), 0, nbz_ - 1);
     const int x_lo = std::max(0, bx - 1), x_hi = std::min(nbx_ - 1, bx + 1);
     auto& list = lists[static_cast<std::size_t>(i)];
-    for (int z = std::max(0, bz - 1); z <= std::min(nbz_ - 1, bz + 1); ++z)
+    for (int z = std::max(0, bz - 1); z <= std::min(nbz_ - 1, bz + 1); ++z) {
       for (int y = std::max(0, by - 1); y <= std::min(nby_ - 1, by + 1); ++y) {
-        const int row = (z * nby_ + y) * nbx_;
-        for (int s = bin_start_[static_cast<std::size_t>(row + x_lo)];
-             s < bin_start_[static_cast<std::size_t>(row + x_hi + 1)]; ++s) {
+        const std::size_t row = static_cast<std::size_t>((z * nby_ + y) * nbx_);
+        for (int s = bin_start_[row + static_cast<std::size_t>(x_lo)];
+             s < bin_start_[row + static_cast<std::size_t>(x_hi) + 1]; ++s) {
           const Image& im = sorted_[static_cast<std::size_t>(s)];
-          if (im.cell == cell) continue;
+          if (im.cell == cell) {
+            continue;
+          }
           const Eigen::Vector3d d(q.x() - im.x, q.y() - im.y, q.z() - im.z);
-          if (d.squaredNorm() >= cut2) continue;
+          if (d.squaredNorm() >= cut2) {
+            continue;
+          }
           // The periodic translation between the unwrapped nodes, fixed until the next build:
           // kx (lambda, d, 0) + ky (0, lambda, 0), rounded to those whole numbers so that it is
           // exact (and the same from any build).
@@ -147,22 +171,28 @@ void Contact::build_pairs(const Points& x, int nodes_per_cell) const {
                                                    kx * box_.shift + ky * box_.lambda, 0.0)});
         }
       }
+    }
     // A canonical order (by node, then translation): the sum over a node's pairs is then the same
     // whichever step built the list.
     std::sort(list.begin(), list.end(), [](const Neighbour& a, const Neighbour& b) {
-      if (a.node != b.node) return a.node < b.node;
+      if (a.node != b.node) {
+        return a.node < b.node;
+      }
       return std::lexicographical_compare(a.shift.data(), a.shift.data() + 3, b.shift.data(),
                                           b.shift.data() + 3);
     });
   }
   pair_start_.assign(static_cast<std::size_t>(n) + 1, 0);
-  for (int i = 0; i < n; ++i)
+  for (int i = 0; i < n; ++i) {
     pair_start_[static_cast<std::size_t>(i) + 1] =
         pair_start_[static_cast<std::size_t>(i)] +
         static_cast<int>(lists[static_cast<std::size_t>(i)].size());
+  }
   pairs_list_.clear();
   pairs_list_.reserve(static_cast<std::size_t>(pair_start_.back()));
-  for (auto& l : lists) pairs_list_.insert(pairs_list_.end(), l.begin(), l.end());
+  for (auto& l : lists) {
+    pairs_list_.insert(pairs_list_.end(), l.begin(), l.end());
+  }
   x_built_ = x;
   built_nodes_per_cell_ = nodes_per_cell;
 }
@@ -172,7 +202,9 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
   const double rc = p_.range, rc2 = rc * rc;
   const bool pairs = p_.cells && n > nodes_per_cell;
   wrap_nodes(x);
-  if (pairs && pairs_stale(x, nodes_per_cell)) build_pairs(x, nodes_per_cell);
+  if (pairs && pairs_stale(x, nodes_per_cell)) {
+    build_pairs(x, nodes_per_cell);
+  }
   double energy = 0.0;
   long pair_count = 0;
 #pragma omp parallel for reduction(+ : energy, pair_count) schedule(static) if (n > 1024)
@@ -205,14 +237,18 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
         const Neighbour& nb = pairs_list_[static_cast<std::size_t>(p)];
         const Eigen::Vector3d d = x.col(i) - x.col(nb.node) - nb.shift;
         const double r2 = d.squaredNorm();
-        if (r2 >= rc2) continue;
+        if (r2 >= rc2) {
+          continue;
+        }
         const double r = std::sqrt(r2);
         energy += 0.5 * law_.energy(r);  // each pair is seen from both sides
         ++pair_count;
         fi += law_.force(r) * d / std::max(r, 1e-12 * rc);
       }
     }
-    if (f) f->col(i) += fi;
+    if (f) {
+      f->col(i) += fi;
+    }
   }
   pairs_ = pair_count / 2;
   return energy;

@@ -29,30 +29,37 @@ void StabilityGuard::check(const CellSet& cells, std::int64_t step, int first_ce
     const auto kk = static_cast<std::size_t>(k);
     const Eigen::Vector3d c = cells.centroid(k);
     const double v = cells.volume(k);
-    if (!std::isfinite(v) || !c.allFinite() || !x.middleCols(k * n, n).allFinite())
+    if (!std::isfinite(v) || !c.allFinite() ||
+        !x.middleCols(static_cast<Eigen::Index>(k) * n, n).allFinite()) {
       throw std::runtime_error(
           fmt::format("unstable: cell {} has non-finite nodes at step {}", first_cell + k, step));
+    }
     const double dv = v / v0_[kk] - 1.0;
     worst_volume_[kk] = std::max(worst_volume_[kk], std::abs(dv));
-    if (std::abs(dv) > limits_.volume_change)
+    if (std::abs(dv) > limits_.volume_change) {
       throw std::runtime_error(
           fmt::format("unstable: cell {} volume changed by {:+.1f} % (limit {:.1f} %) at step {}, "
                       "centroid {}",
                       first_cell + k, 100 * dv, 100 * limits_.volume_change, step, where(c)));
+    }
     double deepest = 0;
     int node = -1;
     for (int i = 0; i < n; ++i) {
-      const Eigen::Vector3d p = x.col(k * n + i);
+      const Eigen::Vector3d p = x.col(static_cast<Eigen::Index>(k) * n + i);
       const auto w = wrap_into_box(box_, {p.x(), p.y(), p.z()}).position;
       const double depth = std::max({-box_.pillar_distance(w[0], w[1]), -w[2], w[2] - box_.depth});
-      if (depth > deepest) deepest = depth, node = i;
+      if (depth > deepest) {
+        deepest = depth, node = i;
+      }
     }
     worst_depth_[kk] = std::max(worst_depth_[kk], deepest);
-    if (deepest > limits_.penetration)
+    if (deepest > limits_.penetration) {
       throw std::runtime_error(fmt::format(
           "unstable: cell {} node {} is {:.2f} um inside the pillar or a wall at step {}, node at "
           "{}",
-          first_cell + k, node, deepest * dx_um_, step, where(x.col(k * n + node))));
+          first_cell + k, node, deepest * dx_um_, step,
+          where(x.col(static_cast<Eigen::Index>(k) * n + node))));
+    }
   }
 }
 

@@ -34,7 +34,8 @@ class TriangleElements {
   TriangleElements(const TriMesh& reference, const Law& law, const char* name)
       : law_(law), tri_(triangle_references(reference, name)) {
     std::vector<int> corners;
-    for (const auto& t : tri_) corners.insert(corners.end(), t.nodes.begin(), t.nodes.end());
+    for (const auto& t : tri_) { corners.insert(corners.end(), t.nodes.begin(), t.nodes.end());
+}
     gather_ = NodeGather(corners, reference.node_count());
   }
 

@@ -38,7 +38,9 @@ void ColumnTracker::update(const std::vector<Eigen::Vector3d>& centroids) {
     auto& ys = crossing_y_[k];
     while (true) {
       const double target = start_[k].x() + static_cast<double>(ys.size() + 1) * lambda_;
-      if (now_[k].x() < target) break;
+      if (now_[k].x() < target) {
+        break;
+      }
       const double span = now_[k].x() - before.x();
       const double t = span > 0 ? std::clamp((target - before.x()) / span, 0.0, 1.0) : 1.0;
       ys.push_back(before.y() + t * (now_[k].y() - before.y()));
@@ -57,13 +59,17 @@ int ColumnTracker::columns(int k) const {
 
 int ColumnTracker::min_columns() const {
   int c = std::numeric_limits<int>::max();
-  for (int k = 0; k < cells(); ++k) c = std::min(c, columns(k));
+  for (int k = 0; k < cells(); ++k) {
+    c = std::min(c, columns(k));
+  }
   return cells() ? c : 0;
 }
 
 double ColumnTracker::shift_per_column(int k) const {
   const auto& ys = crossing_y_[static_cast<std::size_t>(k)];
-  if (ys.size() < 2) return std::numeric_limits<double>::quiet_NaN();
+  if (ys.size() < 2) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   return (ys.back() - ys.front()) / static_cast<double>(ys.size() - 1);
 }
 
@@ -74,25 +80,34 @@ int ColumnTracker::columns_for_certainty() const {
 
 TransportMode ColumnTracker::mode(int k) const {
   const double s = shift_per_column(k);
-  if (std::isnan(s) || columns(k) < columns_for_certainty()) return TransportMode::kUndecided;
+  if (std::isnan(s) || columns(k) < columns_for_certainty()) {
+    return TransportMode::kUndecided;
+  }
   return std::abs(s - d_) < std::abs(s) ? TransportMode::kDisplacement : TransportMode::kZigzag;
 }
 
 bool ColumnTracker::certain(int k) const {
   const TransportMode m = mode(k);
-  if (m == TransportMode::kUndecided) return false;
+  if (m == TransportMode::kUndecided) {
+    return false;
+  }
   const double target = m == TransportMode::kDisplacement ? d_ : 0.0;
   return std::abs(shift_per_column(k) - target) < 0.2 * d_;
 }
 
 TransportMode ColumnTracker::final_mode(int k) const {
-  if (mode(k) == TransportMode::kUndecided) return TransportMode::kUndecided;
+  if (mode(k) == TransportMode::kUndecided) {
+    return TransportMode::kUndecided;
+  }
   return certain(k) ? mode(k) : TransportMode::kMixed;
 }
 
 bool ColumnTracker::all_modes_certain() const {
-  for (int k = 0; k < cells(); ++k)
-    if (!certain(k)) return false;
+  for (int k = 0; k < cells(); ++k) {
+    if (!certain(k)) {
+      return false;
+    }
+  }
   return cells() > 0;
 }
 

@@ -31,7 +31,9 @@ namespace fs = std::filesystem;
 
 /// Step of a checkpoint file, or -1 if it is missing or unreadable.
 std::int64_t checkpoint_step(const std::string& path, const std::string& group) {
-  if (!fs::exists(path)) return -1;
+  if (!fs::exists(path)) {
+    return -1;
+  }
   try {
     return static_cast<std::int64_t>(
         dld::H5File(path, dld::H5File::Mode::kRead).read_attribute_number(group, "step"));
@@ -44,24 +46,33 @@ std::int64_t checkpoint_step(const std::string& path, const std::string& group) 
 std::vector<std::string> common_checkpoint(
     const std::vector<std::pair<std::string, std::string>>& sides) {
   std::vector<std::int64_t> candidates;
-  for (const auto& [path, group] : sides)
-    for (const std::string& p : {path, path + ".prev"})
+  for (const auto& [path, group] : sides) {
+    for (const std::string& p : {path, path + ".prev"}) {
       candidates.push_back(checkpoint_step(p, group));
+    }
+  }
   std::sort(candidates.rbegin(), candidates.rend());
   for (const std::int64_t step : candidates) {
-    if (step < 0) break;
+    if (step < 0) {
+      break;
+    }
     std::vector<std::string> chosen;
-    for (const auto& [path, group] : sides)
-      for (const std::string& p : {path, path + ".prev"})
+    for (const auto& [path, group] : sides) {
+      for (const std::string& p : {path, path + ".prev"}) {
         if (checkpoint_step(p, group) == step) {
           chosen.push_back(p);
           break;
         }
-    if (chosen.size() == sides.size()) return chosen;
+      }
+    }
+    if (chosen.size() == sides.size()) {
+      return chosen;
+    }
   }
   std::string found;
-  for (const auto& [path, group] : sides)
+  for (const auto& [path, group] : sides) {
     found += fmt::format(" {} (step {})", path, checkpoint_step(path, group));
+  }
   throw dld::InputError("--resume: no checkpoint step shared by every program:" + found);
 }
 
@@ -123,11 +134,12 @@ int main(int argc, char** argv) {
       const auto* list = scene.document->root().at_path("cells.cell").as_array();
       const auto count = scene.document->root().at_path("cells.count").value<std::int64_t>();
       cells = count ? static_cast<int>(*count) : list ? static_cast<int>(list->size()) : 0;
-      if (cells < peers)
+      if (cells < peers) {
         throw dld::InputError(
             fmt::format("{}: {} cells ([cells] count or [[cells.cell]]) for {} "
                         "membrane processes",
                         scene_path, cells, peers));
+      }
     }
     // Checkpoints: <stem>-fluid.ckpt.h5 and <stem>-cells-k.ckpt.h5 (each keeps its previous one as
     // .prev); resuming takes the newest step every program has.
@@ -135,12 +147,17 @@ int main(int argc, char** argv) {
     auto cell_ckpt = [&](int k) { return fmt::format("{}-cells-{}.ckpt.h5", stem, k); };
     std::vector<std::string> resume_from(static_cast<std::size_t>(peers) + 1);
     if (resume) {
-      if (!with_cells)
+      if (!with_cells) {
         throw dld::InputError("--resume: only runs with --membrane cells checkpoint");
+      }
       std::vector<std::pair<std::string, std::string>> sides{{fluid_ckpt, "/fluid"}};
-      for (int k = 0; k < peers; ++k) sides.emplace_back(cell_ckpt(k), "/membrane");
+      for (int k = 0; k < peers; ++k) {
+        sides.emplace_back(cell_ckpt(k), "/membrane");
+      }
       const auto chosen = common_checkpoint(sides);
-      for (std::size_t i = 0; i < chosen.size(); ++i) resume_from[i] = chosen[i];
+      for (std::size_t i = 0; i < chosen.size(); ++i) {
+        resume_from[i] = chosen[i];
+      }
     }
     std::vector<std::vector<std::string>> commands;
     commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), scene_path,
@@ -149,7 +166,9 @@ int main(int argc, char** argv) {
     if (with_cells) {
       commands[0].insert(commands[0].end(), {"--checkpoint", fluid_ckpt, "--checkpoint-every",
                                              std::to_string(checkpoint_every)});
-      if (resume) commands[0].insert(commands[0].end(), {"--resume", resume_from[0]});
+      if (resume) {
+        commands[0].insert(commands[0].end(), {"--resume", resume_from[0]});
+      }
     }
     for (int k = 0; k < peers; ++k) {
       std::vector<std::string> c{with_cells
@@ -166,26 +185,39 @@ int main(int argc, char** argv) {
                                  std::to_string(steps),
                                  "-o",
                                  fmt::format("{}-{}-{}.h5", stem, membrane, k)};
-      if (!with_cells) c.insert(c.end(), {"--count", std::to_string(tracers)});
-      if (with_cells && pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(pillars)});
-      if (with_cells && until_certain) c.push_back("--until-mode-certain");
+      if (!with_cells) {
+        c.insert(c.end(), {"--count", std::to_string(tracers)});
+      }
+      if (with_cells && pillars > 0) {
+        c.insert(c.end(), {"--pillars", std::to_string(pillars)});
+      }
+      if (with_cells && until_certain) {
+        c.push_back("--until-mode-certain");
+      }
       if (with_cells) {
         c.insert(c.end(), {"--checkpoint", cell_ckpt(k), "--checkpoint-every",
                            std::to_string(checkpoint_every)});
-        if (resume) c.insert(c.end(), {"--resume", resume_from[static_cast<std::size_t>(k) + 1]});
+        if (resume) {
+          c.insert(c.end(), {"--resume", resume_from[static_cast<std::size_t>(k) + 1]});
+        }
       }
       commands.push_back(c);
     }
-    for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
-    if (dry) return 0;
+    for (const auto& c : commands) {
+      fmt::print("  {}\n", fmt::join(c, " "));
+    }
+    if (dry) {
+      return 0;
+    }
 
     signal(SIGINT, on_sigint);
     std::vector<dld::coupler::Child> children;
     children.push_back(dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log"));
-    for (int k = 0; k < peers; ++k)
+    for (int k = 0; k < peers; ++k) {
       children.push_back(dld::coupler::start_child(fmt::format("{}-{}", membrane, k),
                                                    commands[k + 1],
                                                    fmt::format("{}-{}-{}.log", stem, membrane, k)));
+    }
     const auto start = std::chrono::steady_clock::now();
     int failed = 0;
     bool interrupted_sent = false;
@@ -200,7 +232,9 @@ int main(int argc, char** argv) {
         }
         any_running = any_running || c.running;
       }
-      if (!any_running) break;
+      if (!any_running) {
+        break;
+      }
       if (g_interrupted && !interrupted_sent) {
         fmt::print(stderr,
                    "dld-run: interrupted; asking the fluid to end the run after this step\n");
@@ -213,22 +247,28 @@ int main(int argc, char** argv) {
       if (failed && now - start > std::chrono::seconds(1)) {
         static auto deadline = now + std::chrono::milliseconds(
                                          static_cast<long>(scene.coupling.timeout_s * 1000) + 5000);
-        if (now > deadline)
-          for (auto& c : children) dld::coupler::signal_child(c, SIGKILL);
+        if (now > deadline) {
+          for (auto& c : children) {
+            dld::coupler::signal_child(c, SIGKILL);
+          }
+        }
       }
       if (now - last_report > std::chrono::seconds(5)) {
         fmt::print("[{:.0f} s] fluid: {}\n", std::chrono::duration<double>(now - start).count(),
                    dld::coupler::last_line(children[0].log));
         // The membranes know the cells: pillars passed, ETA and modes.
-        for (std::size_t k = 1; k < children.size(); ++k)
+        for (std::size_t k = 1; k < children.size(); ++k) {
           fmt::print("      {}: {}\n", children[k].name, dld::coupler::last_line(children[k].log));
+        }
         std::fflush(stdout);
         last_report = now;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     fs::remove_all(sock_dir);
-    if (failed) return failed;
+    if (failed) {
+      return failed;
+    }
     fmt::print("dld-run: done in {:.1f} s; outputs {}-*.h5, logs {}-*.log\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                stem, stem);

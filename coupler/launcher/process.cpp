@@ -19,16 +19,23 @@ Child start_child(const std::string& name, const std::vector<std::string>& argv,
                   const std::string& log) {
   Child c{name, log};
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd < 0) throw InputError(fmt::format("{}: cannot create log file", log));
+  if (fd < 0) {
+    throw InputError(fmt::format("{}: cannot create log file", log));
+  }
   c.pid = fork();
-  if (c.pid < 0) throw std::runtime_error("fork failed");
+  if (c.pid < 0) {
+    throw std::runtime_error("fork failed");
+  }
   if (c.pid == 0) {
     dup2(fd, STDOUT_FILENO);
     dup2(fd, STDERR_FILENO);
     ::close(fd);
     setpgid(0, 0);  // Ctrl-C reaches the launcher only; it decides how the children stop
     std::vector<char*> args;
-    for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.reserve(argv.size() + 1);
+    for (const auto& a : argv) {
+      args.push_back(const_cast<char*>(a.c_str()));
+    }
     args.push_back(nullptr);
     execv(args[0], args.data());
     fmt::print(stderr, "cannot start {}\n", argv[0]);
@@ -40,20 +47,28 @@ Child start_child(const std::string& name, const std::vector<std::string>& argv,
 }
 
 bool poll_child(Child& c) {
-  if (!c.running) return false;
+  if (!c.running) {
+    return false;
+  }
   int status = 0;
-  if (waitpid(c.pid, &status, WNOHANG) != c.pid) return false;
+  if (waitpid(c.pid, &status, WNOHANG) != c.pid) {
+    return false;
+  }
   c.running = false;
   c.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return true;
 }
 
 void signal_child(const Child& c, int sig) {
-  if (c.running) kill(c.pid, sig);
+  if (c.running) {
+    kill(c.pid, sig);
+  }
 }
 
 int wait_child(Child& c) {
-  if (!c.running) return c.exit_code;
+  if (!c.running) {
+    return c.exit_code;
+  }
   int status = 0;
   while (waitpid(c.pid, &status, 0) < 0 && errno == EINTR) {
   }
@@ -65,8 +80,11 @@ int wait_child(Child& c) {
 std::string find_program(const std::string& name, const std::string& build_path) {
   namespace fs = std::filesystem;
   const fs::path self = fs::read_symlink("/proc/self/exe").parent_path();
-  for (const fs::path& p : {self / name, fs::path(build_path)})
-    if (fs::exists(p)) return p.string();
+  for (const fs::path& p : {self / name, fs::path(build_path)}) {
+    if (fs::exists(p)) {
+      return p.string();
+    }
+  }
   throw InputError(fmt::format("cannot find the program {} (looked next to {} and at {})", name,
                                self.string(), build_path));
 }
@@ -74,8 +92,11 @@ std::string find_program(const std::string& name, const std::string& build_path)
 std::string last_line(const std::string& path) {
   std::ifstream in(path);
   std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
+  while (std::getline(in, line)) {
+    if (!line.empty()) {
+      last = line;
+    }
+  }
   return last;
 }
 

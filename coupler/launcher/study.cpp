@@ -19,7 +19,9 @@ std::vector<std::string> split_key(const std::string& key) {
   std::vector<std::string> parts;
   std::string part;
   std::istringstream in(key);
-  while (std::getline(in, part, '.')) parts.push_back(part);
+  while (std::getline(in, part, '.')) {
+    parts.push_back(part);
+  }
   return parts;
 }
 
@@ -27,45 +29,57 @@ std::vector<std::string> split_key(const std::string& key) {
 void set_key(toml::table& scene, const std::string& key, const toml::node& value,
              const std::string& origin) {
   const auto parts = split_key(key);
-  if (parts.empty() || std::any_of(parts.begin(), parts.end(), [](auto& p) { return p.empty(); }))
+  if (parts.empty() || std::any_of(parts.begin(), parts.end(), [](auto& p) { return p.empty(); })) {
     throw InputError(fmt::format("{}: '{}' is not a scene key (a.b.c)", origin, key));
+  }
   toml::table* t = &scene;
   for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
-    if (t->get(parts[i]) == nullptr) t->insert(parts[i], toml::table{});
+    if (t->get(parts[i]) == nullptr) {
+      t->insert(parts[i], toml::table{});
+    }
     t = t->get(parts[i])->as_table();
-    if (t == nullptr)
+    if (t == nullptr) {
       throw InputError(fmt::format("{}: scene key '{}': '{}' is not a table in the template",
                                    origin, key, parts[i]));
+    }
   }
   value.visit([&](auto&& v) { t->insert_or_assign(parts.back(), v); });
 }
 
 std::string run_name(const std::vector<StudyAxis>& axes, const std::vector<double>& at) {
   std::string name;
-  for (std::size_t a = 0; a < axes.size(); ++a)
+  for (std::size_t a = 0; a < axes.size(); ++a) {
     name += fmt::format("{}{}{:g}", a ? "-" : "", axes[a].name, at[a]);
+  }
   return name;
 }
 
 StudyAxis read_axis(const TomlSection& s) {
   StudyAxis axis;
   axis.name = s.string("name");
-  if (axis.name.empty() || axis.name.find_first_of("/ -") != std::string::npos)
+  if (axis.name.empty() || axis.name.find_first_of("/ -") != std::string::npos) {
     s.fail("name", "expected a short name without spaces, '-' or '/' (it names run directories)");
+  }
   axis.column = s.string("column", "");
   axis.values = s.numbers("values");
-  if (axis.values.empty()) s.fail("values", "expected at least one value");
-  if (std::set<double>(axis.values.begin(), axis.values.end()).size() != axis.values.size())
+  if (axis.values.empty()) {
+    s.fail("values", "expected at least one value");
+  }
+  if (std::set<double>(axis.values.begin(), axis.values.end()).size() != axis.values.size()) {
     s.fail("values", "expected distinct values");
+  }
   for (auto&& [k, v] : s.raw_table("set")) {
     const std::string key(k.str());
     const auto* arr = v.as_array();
-    if (arr == nullptr || arr->size() != axis.values.size())
+    if (arr == nullptr || arr->size() != axis.values.size()) {
       s.fail("set", fmt::format("key \"{}\": expected an array of {} values (one per axis value)",
                                 key, axis.values.size()));
+    }
     axis.set.emplace_back(key, *arr);
   }
-  if (axis.set.empty()) s.fail("set", "expected at least one scene key to set");
+  if (axis.set.empty()) {
+    s.fail("set", "expected at least one scene key to set");
+  }
   return axis;
 }
 
@@ -81,32 +95,47 @@ Study load_study(const std::string& path) {
   s.name = st.string("name");
   s.scene_template = here / st.string("scene");
   s.output = st.string("output");
-  if (st.has("modes")) s.modes = here / st.string("modes");
+  if (st.has("modes")) {
+    s.modes = here / st.string("modes");
+  }
   s.pillars = static_cast<int>(st.integer("pillars", 100));
-  if (s.pillars < 1) st.fail("pillars", "expected a positive number of pillars");
+  if (s.pillars < 1) {
+    st.fail("pillars", "expected a positive number of pillars");
+  }
   s.checkpoint_every = st.integer("checkpoint_every", 20000);
   s.max_steps = st.integer("max_steps", 0);
-  if (s.checkpoint_every < 0)
+  if (s.checkpoint_every < 0) {
     st.fail("checkpoint_every", "expected >= 0 steps (0: only at the end)");
-  if (s.max_steps < 0) st.fail("max_steps", "expected >= 0 steps (0: no limit)");
+  }
+  if (s.max_steps < 0) {
+    st.fail("max_steps", "expected >= 0 steps (0: no limit)");
+  }
   std::set<std::string> names;
   for (const TomlSection& a : st.sections("axis")) {
     s.axes.push_back(read_axis(a));
-    if (!names.insert(s.axes.back().name).second) a.fail("name", "expected a name used once");
+    if (!names.insert(s.axes.back().name).second) {
+      a.fail("name", "expected a name used once");
+    }
   }
-  if (s.axes.empty()) st.fail("axis", "expected at least one [[study.axis]]");
-  if (st.has("resolution"))
+  if (s.axes.empty()) {
+    st.fail("axis", "expected at least one [[study.axis]]");
+  }
+  if (st.has("resolution")) {
     for (auto&& [k, v] : st.raw_table("resolution")) {
-      if (!v.is_table())
+      if (!v.is_table()) {
         st.fail("resolution", fmt::format("'{}': expected a table of scene keys", k.str()));
+      }
       s.resolutions.emplace(std::string(k.str()), *v.as_table());
     }
+  }
   s.default_resolution = st.string("default_resolution", "");
-  if (!s.default_resolution.empty() && s.resolutions.count(s.default_resolution) == 0)
+  if (!s.default_resolution.empty() && s.resolutions.count(s.default_resolution) == 0) {
     st.fail("default_resolution", "expected the name of a [study.resolution.*] table");
+  }
   doc->reject_unknown();
-  if (!fs::exists(s.scene_template))
+  if (!fs::exists(s.scene_template)) {
     st.fail("scene", fmt::format("{}: no such scene file", s.scene_template.string()));
+  }
   return s;
 }
 
@@ -117,22 +146,28 @@ std::vector<StudyRun> Study::runs(const std::string& resolution) const {
     const auto r = resolutions.find(resolution);
     if (r == resolutions.end()) {
       std::string known;
-      for (const auto& [n, t] : resolutions) known += " " + n;
+      for (const auto& [n, t] : resolutions) {
+        known += " " + n;
+      }
       throw InputError(fmt::format("{}: no resolution '{}' (known:{})", file, resolution,
                                    known.empty() ? " none" : known));
     }
     overrides = &r->second;
   }
   std::size_t total = 1;
-  for (const auto& a : axes) total *= a.values.size();
+  for (const auto& a : axes) {
+    total *= a.values.size();
+  }
   std::vector<StudyRun> out;
   for (std::size_t i = 0; i < total; ++i) {
     StudyRun run;
     run.index = static_cast<int>(i);
     run.scene = tmpl->root();
-    if (overrides)
-      for (auto&& [k, v] : *overrides)
+    if (overrides) {
+      for (auto&& [k, v] : *overrides) {
         set_key(run.scene, std::string(k.str()), v, file + ": resolution " + resolution);
+      }
+    }
     // First axis slowest: index = ((i0 * n1) + i1) * n2 + i2 ...
     std::size_t rest = i, stride = total;
     for (const auto& a : axes) {
@@ -140,8 +175,9 @@ std::vector<StudyRun> Study::runs(const std::string& resolution) const {
       const std::size_t j = rest / stride;
       rest %= stride;
       run.coordinates.push_back(a.values[j]);
-      for (const auto& [key, values] : a.set)
+      for (const auto& [key, values] : a.set) {
         set_key(run.scene, key, *values.get(j), file + ": axis " + a.name);
+      }
     }
     run.name = run_name(axes, run.coordinates);
     run.dir = output / (resolution.empty() ? std::string("default") : resolution) / run.name;

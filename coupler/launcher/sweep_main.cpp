@@ -43,14 +43,15 @@ std::string slurp(const fs::path& p) {
 /// a resumed run never continues under changed physics.
 fs::path prepare(const StudyRun& run) {
   fs::create_directories(run.dir);
-  const fs::path scene = run.dir / "scene.toml";
+  fs::path scene = run.dir / "scene.toml";
   const std::string text = dld::coupler::scene_text(run);
   if (fs::exists(scene)) {
-    if (slurp(scene) != text)
+    if (slurp(scene) != text) {
       throw dld::InputError(fmt::format(
           "run {}: {} differs from the scene the study gives now (study or template changed); "
           "move {} away to run it afresh",
           run.name, scene.string(), run.dir.string()));
+    }
   } else {
     std::ofstream(scene.string() + ".tmp") << text;
     fs::rename(scene.string() + ".tmp", scene);
@@ -70,11 +71,14 @@ int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::st
   for (const auto& e : fs::directory_iterator(run.dir)) {
     const std::string f = e.path().filename().string();
     if (f.rfind("run-cells-", 0) == 0 && f.size() > 3 && f.substr(f.size() - 3) == ".h5" &&
-        f.find(".ckpt") == std::string::npos)
+        f.find(".ckpt") == std::string::npos) {
       argv.push_back(e.path().string());
+    }
   }
   argv.insert(argv.end(), {"--pillars", std::to_string(study.pillars), "-o", run.dir.string()});
-  if (!study.modes.empty()) argv.insert(argv.end(), {"--modes", study.modes.string()});
+  if (!study.modes.empty()) {
+    argv.insert(argv.end(), {"--modes", study.modes.string()});
+  }
   auto c = dld::coupler::start_child("dld-analyze", argv, (run.dir / "analysis.txt").string());
   return dld::coupler::wait_child(c);
 }
@@ -103,19 +107,26 @@ int main(int argc, char** argv) {
 
   try {
     const auto study = dld::coupler::load_study(study_path);
-    if (resolution.empty()) resolution = study.default_resolution;
+    if (resolution.empty()) {
+      resolution = study.default_resolution;
+    }
     const auto runs = study.runs(resolution);
     std::vector<const StudyRun*> chosen;
-    for (const auto& r : runs)
+    for (const auto& r : runs) {
       if ((index < 0 || r.index == index) &&
-          (only.empty() || std::find(only.begin(), only.end(), r.name) != only.end()))
+          (only.empty() || std::find(only.begin(), only.end(), r.name) != only.end())) {
         chosen.push_back(&r);
-    if (index >= static_cast<int>(runs.size()))
+      }
+    }
+    if (index >= static_cast<int>(runs.size())) {
       throw dld::InputError(fmt::format("--index {}: the study has {} runs (0..{})", index,
                                         runs.size(), runs.size() - 1));
-    for (const auto& n : only)
-      if (std::none_of(runs.begin(), runs.end(), [&](auto& r) { return r.name == n; }))
+    }
+    for (const auto& n : only) {
+      if (std::none_of(runs.begin(), runs.end(), [&](auto& r) { return r.name == n; })) {
         throw dld::InputError(fmt::format("--only {}: no such run (see --list)", n));
+      }
+    }
 
     const std::string self = fs::read_symlink("/proc/self/exe").string();
     if (!slurm.empty()) {
@@ -127,11 +138,15 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (list || summary_only) {
-      if (list)
-        for (const auto& r : runs)
+      if (list) {
+        for (const auto& r : runs) {
           fmt::print("{:3d}  {:24s} {}\n", r.index, r.name,
                      dld::coupler::state_name(dld::coupler::run_state(r)));
-      if (summary_only) dld::coupler::write_summary(study, runs, resolution);
+        }
+      }
+      if (summary_only) {
+        dld::coupler::write_summary(study, runs, resolution);
+      }
       return 0;
     }
 
@@ -179,17 +194,26 @@ int main(int argc, char** argv) {
                                      std::to_string(steps),
                                      "--checkpoint-every",
                                      std::to_string(study.checkpoint_every)};
-        if (resume) cmd.push_back("--resume");
+        if (resume) {
+          cmd.push_back("--resume");
+        }
         fmt::print("  start {} ({}): {}\n", r->name, resume ? "resuming" : "new",
                    fmt::join(cmd, " "));
-        if (dry) continue;
+        if (dry) {
+          continue;
+        }
         running.push_back(
             {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string()),
              std::chrono::steady_clock::now()});
       }
-      if (dry) break;
-      if (g_interrupted)
-        for (auto& x : running) dld::coupler::signal_child(x.child, SIGINT);
+      if (dry) {
+        break;
+      }
+      if (g_interrupted) {
+        for (auto& x : running) {
+          dld::coupler::signal_child(x.child, SIGINT);
+        }
+      }
       for (auto it = running.begin(); it != running.end();) {
         if (!dld::coupler::poll_child(it->child)) {
           ++it;
@@ -200,9 +224,10 @@ int main(int argc, char** argv) {
         dld::coupler::record_attempt(*it->run, it->child.exit_code, wall);
         if (it->child.exit_code == 0) {
           const int a = analyze_exe.empty() ? -1 : analyze(*it->run, study, analyze_exe);
-          if (a > 0)
+          if (a > 0) {
             fmt::print(stderr, "  {}: dld-analyze failed ({}): see {}\n", it->run->name, a,
                        (it->run->dir / "analysis.txt").string());
+          }
           dld::coupler::mark_done(*it->run, dld::coupler::run_wall_s(*it->run));
           ++finished;
           fmt::print("  done {} in {:.0f} s\n", it->run->name, wall);
@@ -218,15 +243,18 @@ int main(int argc, char** argv) {
         fmt::print("[{:.0f} s] sweep: {} done, {} running, {} waiting, {} failed\n",
                    std::chrono::duration<double>(now - t0).count(), done_before + finished,
                    running.size(), queue.size(), failed.size());
-        for (const auto& x : running)
+        for (const auto& x : running) {
           fmt::print("  {}: {}\n", x.run->name,
                      dld::coupler::last_line((x.run->dir / "run-cells-0.log").string()));
+        }
         std::fflush(stdout);
         last_report = now;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
-    if (dry) return 0;
+    if (dry) {
+      return 0;
+    }
     if (g_interrupted) {
       fmt::print(stderr,
                  "dld-sweep: interrupted; the stopped runs resume from their checkpoints when "
@@ -241,10 +269,11 @@ int main(int argc, char** argv) {
         std::vector<std::string> p{"/usr/bin/python3", plot.string(), csv, "-o", png};
         auto c = dld::coupler::start_child("plot_study", p,
                                            (fs::path(csv).parent_path() / "plots.log").string());
-        if (dld::coupler::wait_child(c) != 0)
+        if (dld::coupler::wait_child(c) != 0) {
           fmt::print(stderr, "dld-sweep: plot_study.py failed: see {}\n", c.log);
-        else
+        } else {
           fmt::print("plot: {} (trajectories and outlets: each run's directory)\n", png);
+        }
       }
     }
     if (!failed.empty()) {

@@ -17,8 +17,11 @@ std::vector<std::string> lines(const fs::path& p) {
   std::ifstream in(p);
   std::vector<std::string> out;
   std::string line;
-  while (std::getline(in, line))
-    if (!line.empty()) out.push_back(line);
+  while (std::getline(in, line)) {
+    if (!line.empty()) {
+      out.push_back(line);
+    }
+  }
   return out;
 }
 
@@ -41,9 +44,14 @@ std::vector<std::string> cells(const std::string& csv_line) {
 }  // namespace
 
 RunState run_state(const StudyRun& run) {
-  if (fs::exists(run.dir / "done.toml")) return RunState::kDone;
-  for (const char* f : {"run-fluid.ckpt.h5", "run-fluid.ckpt.h5.prev"})
-    if (fs::exists(run.dir / f)) return RunState::kPartial;
+  if (fs::exists(run.dir / "done.toml")) {
+    return RunState::kDone;
+  }
+  for (const char* f : {"run-fluid.ckpt.h5", "run-fluid.ckpt.h5.prev"}) {
+    if (fs::exists(run.dir / f)) {
+      return RunState::kPartial;
+    }
+  }
   return RunState::kWaiting;
 }
 
@@ -62,7 +70,9 @@ double run_wall_s(const StudyRun& run) {
   double total = 0;
   for (const auto& l : lines(run.dir / "attempts.csv")) {
     const auto c = cells(l);
-    if (c.size() >= 3 && c[0] != "finished_unix_s") total += std::stod(c[2]);
+    if (c.size() >= 3 && c[0] != "finished_unix_s") {
+      total += std::stod(c[2]);
+    }
   }
   return total;
 }
@@ -71,7 +81,9 @@ void record_attempt(const StudyRun& run, int exit_code, double wall_s) {
   const fs::path p = run.dir / "attempts.csv";
   const bool fresh = !fs::exists(p);
   std::ofstream out(p, std::ios::app);
-  if (fresh) out << "finished_unix_s,exit_code,wall_s\n";
+  if (fresh) {
+    out << "finished_unix_s,exit_code,wall_s\n";
+  }
   const auto now = std::chrono::system_clock::now().time_since_epoch();
   out << std::chrono::duration_cast<std::chrono::seconds>(now).count() << "," << exit_code << ","
       << fmt::format("{:.1f}", wall_s) << "\n";
@@ -89,19 +101,27 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
   fs::create_directories(dir);
   const fs::path csv = dir / "summary.csv";
   std::string header = "run";
-  for (const auto& a : study.axes) header += "," + (a.column.empty() ? a.name : a.column);
+  for (const auto& a : study.axes) {
+    header += "," + (a.column.empty() ? a.name : a.column);
+  }
   header += ",wall_s";
   std::string analysis_header;
   std::vector<std::string> rows;
   int missing = 0;
   for (const auto& run : runs) {
-    if (run_state(run) != RunState::kDone) continue;
+    if (run_state(run) != RunState::kDone) {
+      continue;
+    }
     std::string row = run.name;
-    for (const double v : run.coordinates) row += fmt::format(",{:g}", v);
+    for (const double v : run.coordinates) {
+      row += fmt::format(",{:g}", v);
+    }
     row += fmt::format(",{:.1f}", run_wall_s(run));
     const auto a = lines(run.dir / "run-summary.csv");
     if (a.size() >= 2) {
-      if (analysis_header.empty()) analysis_header = a[0];
+      if (analysis_header.empty()) {
+        analysis_header = a[0];
+      }
       row += "," + a[1];
     } else {
       ++missing;
@@ -111,7 +131,9 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
   {
     std::ofstream out(csv.string() + ".tmp");
     out << header << (analysis_header.empty() ? "" : "," + analysis_header) << "\n";
-    for (const auto& r : rows) out << r << "\n";
+    for (const auto& r : rows) {
+      out << r << "\n";
+    }
   }
   fs::rename(csv.string() + ".tmp", csv);
   fmt::print("sweep summary ({} of {} runs finished{}): {}\n", rows.size(), runs.size(),
@@ -119,16 +141,22 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
   // On the terminal: the axes, wall time and the analysis's headline figures.
   const auto head = cells(header + (analysis_header.empty() ? "" : "," + analysis_header));
   std::vector<std::size_t> shown;
-  for (std::size_t i = 0; i < head.size(); ++i)
+  for (std::size_t i = 0; i < head.size(); ++i) {
     if (i < 2 + study.axes.size() ||
         std::string(",failure,p_f_mean,p_f_std,O1,O2,O3,O4,").find("," + head[i] + ",") !=
-            std::string::npos)
+            std::string::npos) {
       shown.push_back(i);
-  for (const std::size_t i : shown) fmt::print("{:>12.12} ", head[i]);
+    }
+  }
+  for (const std::size_t i : shown) {
+    fmt::print("{:>12.12} ", head[i]);
+  }
   fmt::print("\n");
   for (const auto& r : rows) {
     const auto c = cells(r);
-    for (const std::size_t i : shown) fmt::print("{:>12.12} ", i < c.size() ? c[i] : "");
+    for (const std::size_t i : shown) {
+      fmt::print("{:>12.12} ", i < c.size() ? c[i] : "");
+    }
     fmt::print("\n");
   }
   return csv.string();
