@@ -86,12 +86,25 @@ TEST(StabilityGuard, NodeInsideThePillarOrAWallStopsTheRun) {
   {
     Fixture h;
     auto g = h.guard();
-    h.cells.positions().col(n + 2).z() = -0.5;  // half a spacing below z = 0: kept, not fatal
+    // Cell 1 moved down until its lowest node is half a spacing below z = 0: kept, not fatal.
+    auto translate = [&](const Eigen::Vector3d& by) {
+      for (int i = n; i < 2 * n; ++i) h.cells.positions().col(i) += by;
+    };
+    translate(Eigen::Vector3d(0, 0, -h.cells.positions().middleCols(n, n).row(2).minCoeff() - 0.5));
     EXPECT_NO_THROW(g.check(h.cells, 1, 0));
     EXPECT_NEAR(g.worst_penetration_um(1), 0.5 * kDx, 1e-12);
-    // The other side of the box across the shifted x boundary: still found (nodes are unwrapped).
-    h.cells.positions().col(n + 2) = Eigen::Vector3d(40.0 + 80.0, 40.0 + 11.0, 6.0);
-    EXPECT_THROW(g.check(h.cells, 2, 0), std::runtime_error);
+    // Cell 1 one box on in x (and up by the shift), against the pillar of that box: found through
+    // the shifted boundary (nodes are unwrapped, the pillar is the folded one).
+    const Eigen::Vector3d c = h.cells.centroid(1);
+    translate(Eigen::Vector3d(13.0 + 80.0, 40.0 + 11.0, 6.0) - c);
+    std::string m;
+    try {
+      g.check(h.cells, 2, 0);
+    } catch (const std::runtime_error& e) {
+      m = e.what();
+    }
+    EXPECT_NE(m.find("cell 1 node"), std::string::npos) << m;
+    EXPECT_NE(m.find("inside the pillar or a wall at step 2"), std::string::npos) << m;
   }
 }
 
