@@ -140,6 +140,31 @@ BENCHMARK(BM_IbInterpolate)
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 
+// The immersed boundary of one coupled step: spread at new positions, then interpolate at the same
+// positions (the markers move by a tiny amount between iterations, as they do between steps).
+void BM_IbCoupledStep(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
+  auto x = marker_cells(s.lattice(), static_cast<int>(state.range(1)));
+  const std::vector<double> f(x.size(), 1e-6);
+  std::vector<double> u(x.size());
+  s.force_field();
+  s.step();
+  double dx = 1e-4;
+  for (auto _ : state) {
+    for (double& v : x) v += dx;
+    dx = -dx;
+    ib.spread(x, f, s.force_field());
+    ib.interpolate(x, s.velocity_field(), u);
+  }
+  state.counters["markers"] = static_cast<double>(x.size() / 3);
+}
+BENCHMARK(BM_IbCoupledStep)
+    ->ArgsProduct({{1, 2}, {1, 17}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+
 // The lattice step of a coupled run (force field in, velocity field out) against the plain one.
 void BM_DldCellStepWithForceField(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
