@@ -22,6 +22,7 @@
 #include "coupler/fluid_side.hpp"
 #include "coupler/frame.hpp"
 #include "coupler/membrane_side.hpp"
+#include "tests/temp_dir.hpp"
 
 namespace dld::coupler::test {
 
@@ -51,22 +52,9 @@ inline Options test_options(std::chrono::milliseconds timeout = 3000ms) {
   return o;
 }
 
-/// A fresh directory under the system temp dir, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "dld-coupler-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
+/// A fresh directory for ipc sockets, removed at the end of the test.
+struct TempDir : dld::test::TempDir {
+  TempDir() : dld::test::TempDir("dld-coupler") {}
 };
 
 enum class Kind { inproc, ipc, tcp };

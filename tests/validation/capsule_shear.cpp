@@ -21,6 +21,7 @@
 #include "membrane/cell_set.hpp"
 #include "membrane/sphere_mesh.hpp"
 #include "membrane/taylor_deformation.hpp"
+#include "tests/temp_dir.hpp"
 
 namespace dld::validation {
 
@@ -54,17 +55,8 @@ double mean_deformation(const CapsuleShearRun& run, double from) {
 namespace {
 
 /// A fresh directory for ipc sockets, removed when the run ends.
-struct SocketDir {
-  std::filesystem::path path;
-  SocketDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "dld-capsule-XXXXXX").string();
-    if (mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
-    path = pattern;
-  }
-  ~SocketDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path, ec);
-  }
+struct SocketDir : dld::test::TempDir {
+  SocketDir() : dld::test::TempDir("dld-capsule") {}
 };
 
 std::string fluid_endpoint(Transport t, const SocketDir& dir) {
@@ -73,7 +65,7 @@ std::string fluid_endpoint(Transport t, const SocketDir& dir) {
     case Transport::inproc:
       return fmt::format("inproc://capsule-shear-{}", counter++);
     case Transport::ipc:
-      return fmt::format("ipc://{}/fluid", dir.path.string());
+      return fmt::format("ipc://{}/fluid", dir.path().string());
     case Transport::tcp:
       return "tcp://127.0.0.1:*";  // the system picks the port
   }
