@@ -112,6 +112,8 @@ void FluidSide::initialize() {
       welcome.scene = config_.scene;
       welcome.side_name = kSelf;
       welcome.shared_memory = peer.segment.mapped() ? peer.segment.name() : "";
+      welcome.cell_faces.clear();  // the surfaces travel one way only
+      welcome.faces.clear();
       zmq::message_t frame = encode_handshake(FrameType::welcome, welcome);
       if (!peer.channel->send(frame)) {
         throw CouplerError(fmt::format("{}: {} did not take the welcome within {} s", kSelf,
@@ -223,6 +225,12 @@ void FluidSide::check_hellos() {
     next_node += peer.nodes;
     next_cell += static_cast<std::uint32_t>(hello.cell_nodes.size());
     cell_nodes_.insert(cell_nodes_.end(), hello.cell_nodes.begin(), hello.cell_nodes.end());
+    if (hello.cell_faces.empty()) {
+      cell_faces_.insert(cell_faces_.end(), hello.cell_nodes.size(), 0);
+    } else {
+      cell_faces_.insert(cell_faces_.end(), hello.cell_faces.begin(), hello.cell_faces.end());
+    }
+    faces_.insert(faces_.end(), hello.faces.begin(), hello.faces.end());
   }
   if (next_cell != total) {
     fail(

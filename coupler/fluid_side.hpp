@@ -84,6 +84,10 @@ class FluidSide {
   bool shared_memory(std::size_t peer) const { return peers_[peer].segment.mapped(); }
   /// Node count of every cell over all peers, in global cell order (after initialize()).
   std::span<const std::uint32_t> cell_nodes() const { return cell_nodes_; }
+  /// Triangle count of every cell (0: the peer sent no surface), in global cell order.
+  std::span<const std::uint32_t> cell_faces() const { return cell_faces_; }
+  /// The triangles of all cells, 3 node indices local to their cell, in global cell order.
+  std::span<const std::uint32_t> faces() const { return faces_; }
   /// "membrane 'membrane-1'" once its hello arrived, else "membrane peer 1".
   const std::string& peer_label(std::size_t peer) const { return peers_[peer].label; }
 
@@ -118,7 +122,7 @@ class FluidSide {
   std::vector<Peer> peers_;
   State state_ = State::created;
   std::uint64_t step_ = 0;
-  std::vector<std::uint32_t> cell_nodes_;
+  std::vector<std::uint32_t> cell_nodes_, cell_faces_, faces_;
   std::vector<double> positions_;  // concatenation target when the frames cannot be viewed
   std::vector<double> forces_;
   std::span<const double> positions_view_;

@@ -28,8 +28,9 @@ bool same(double a, double b) {
 }  // namespace
 
 zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
+  const std::size_t cells = r.cell_nodes.size();
   const std::size_t bytes = kHandshakeFixedBytes + r.scene.scene_hash.size() + r.side_name.size() +
-                            4 * r.cell_nodes.size() + r.shared_memory.size();
+                            8 * cells + r.shared_memory.size() + 4 * r.faces.size();
   zmq::message_t frame = make_frame(type, r.scene.start_step, bytes);
   std::byte* at = payload(frame);
   for (double v : {r.scene.dx_m, r.scene.dt_s, r.scene.density_kg_m3, r.scene.lambda_m,
@@ -38,19 +39,28 @@ zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
   }
   put(at, r.scene.start_step);
   for (std::uint32_t v : {r.scene.total_cells, r.peer_index, r.peer_count, r.first_cell,
-                          static_cast<std::uint32_t>(r.cell_nodes.size()),
+                          static_cast<std::uint32_t>(cells),
                           static_cast<std::uint32_t>(r.scene.scene_hash.size()),
                           static_cast<std::uint32_t>(r.side_name.size()),
-                          static_cast<std::uint32_t>(r.shared_memory.size())}) {
+                          static_cast<std::uint32_t>(r.shared_memory.size()),
+                          static_cast<std::uint32_t>(r.faces.size() / 3)}) {
     put(at, v);
   }
-  std::memcpy(at, r.scene.scene_hash.data(), r.scene.scene_hash.size());
-  at += r.scene.scene_hash.size();
-  std::memcpy(at, r.side_name.data(), r.side_name.size());
-  at += r.side_name.size();
-  std::memcpy(at, r.cell_nodes.data(), 4 * r.cell_nodes.size());
-  at += 4 * r.cell_nodes.size();
-  std::memcpy(at, r.shared_memory.data(), r.shared_memory.size());
+  auto put_bytes = [&](const void* data, std::size_t n) {
+    if (n > 0) std::memcpy(at, data, n);
+    at += n;
+  };
+  put_bytes(r.scene.scene_hash.data(), r.scene.scene_hash.size());
+  put_bytes(r.side_name.data(), r.side_name.size());
+  put_bytes(r.cell_nodes.data(), 4 * cells);
+  put_bytes(r.shared_memory.data(), r.shared_memory.size());
+  if (r.cell_faces.empty()) {
+    std::memset(at, 0, 4 * cells);
+    at += 4 * cells;
+  } else {
+    put_bytes(r.cell_faces.data(), 4 * cells);
+  }
+  put_bytes(r.faces.data(), 4 * r.faces.size());
   return frame;
 }
 
@@ -79,6 +89,7 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   const auto hash_bytes = get<std::uint32_t>(at);
   const auto name_bytes = get<std::uint32_t>(at);
   const auto shm_bytes = get<std::uint32_t>(at);
+  const auto face_count = get<std::uint32_t>(at);
   for (const auto& [field, bytes] :
        {std::pair{"scene_hash", hash_bytes}, std::pair{"side_name", name_bytes},
         std::pair{"shared_memory", shm_bytes}}) {
@@ -86,12 +97,13 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
       throw_malformed(link, header.step, field, fmt::format("longer than {} bytes", kMaxNameBytes));
     }
   }
-  const std::size_t expected =
-      kHandshakeFixedBytes + hash_bytes + name_bytes + 4ull * cells + shm_bytes;
+  const std::size_t expected = kHandshakeFixedBytes + hash_bytes + name_bytes + 8ull * cells +
+                               shm_bytes + 12ull * face_count;
   if (header.payload_bytes != expected) {
     throw_malformed(link, header.step, "payload_bytes",
-                    fmt::format("{} record with {} cells needs {} bytes, got {}",
-                                to_string(header.type), cells, expected, header.payload_bytes));
+                    fmt::format("{} record with {} cells and {} faces needs {} bytes, got {}",
+                                to_string(header.type), cells, face_count, expected,
+                                header.payload_bytes));
   }
   r.scene.scene_hash.assign(reinterpret_cast<const char*>(at), hash_bytes);
   at += hash_bytes;
@@ -101,6 +113,30 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   std::memcpy(r.cell_nodes.data(), at, 4ull * cells);
   at += 4ull * cells;
   r.shared_memory.assign(reinterpret_cast<const char*>(at), shm_bytes);
+  at += shm_bytes;
+  r.cell_faces.resize(cells);
+  std::memcpy(r.cell_faces.data(), at, 4ull * cells);
+  at += 4ull * cells;
+  r.faces.resize(3ull * face_count);
+  std::memcpy(r.faces.data(), at, 12ull * face_count);
+  // The surfaces must fit the cells they belong to: a stray index would send the fluid's
+  // inside/outside test to another cell's (or no) node.
+  std::size_t total = 0, next = 0;
+  for (std::size_t c = 0; c < cells; ++c) total += r.cell_faces[c];
+  if (total != face_count) {
+    throw_malformed(link, header.step, "cell_faces",
+                    fmt::format("the per-cell counts add up to {}, the record carries {} faces",
+                                total, face_count));
+  }
+  for (std::size_t c = 0; c < cells; ++c) {
+    for (std::size_t f = 0; f < 3ull * r.cell_faces[c]; ++f, ++next) {
+      if (r.faces[next] >= r.cell_nodes[c]) {
+        throw_malformed(link, header.step, fmt::format("faces[{}]", next / 3),
+                        fmt::format("node {} of a cell with {} nodes (cell {})", r.faces[next],
+                                    r.cell_nodes[c], c));
+      }
+    }
+  }
   return r;
 }
 

@@ -39,12 +39,17 @@ struct Handshake {
   std::uint32_t peer_count = 1;           ///< membrane processes in the run
   std::uint32_t first_cell = 0;           ///< global index of this peer's first cell
   std::vector<std::uint32_t> cell_nodes;  ///< node count of every cell the peer owns, in order
+  /// Triangle count of every owned cell (0: the cell has no surface, e.g. a tracer). Empty means
+  /// all zero. The fluid needs the surfaces for the inside/outside viscosity field.
+  std::vector<std::uint32_t> cell_faces;
+  /// The triangles, three node indices local to their cell, cell after cell (3 x sum(cell_faces)).
+  std::vector<std::uint32_t> faces;
   /// Shared-memory data path (ipc): in a hello, the segment the membrane offers; in a welcome,
   /// the same name if the fluid mapped it, empty if it declines. Empty: frames carry the data.
   std::string shared_memory;
 };
 
-inline constexpr std::size_t kHandshakeFixedBytes = 96;
+inline constexpr std::size_t kHandshakeFixedBytes = 100;
 inline constexpr std::size_t kMaxNameBytes = 256;
 
 zmq::message_t encode_handshake(FrameType type, const Handshake& record);

@@ -75,6 +75,16 @@ auto MembraneSide::guarded(Body&& body) {
   }
 }
 
+void MembraneSide::set_cell_surfaces(std::vector<std::uint32_t> cell_faces,
+                                     std::vector<std::uint32_t> faces) {
+  check_call(self_, "set_cell_surfaces()", state_, {State::created});
+  if (cell_faces.size() != config_.cell_nodes.size())
+    throw CouplerError(fmt::format("{}: surfaces for {} cells, the side owns {}", self_,
+                                   cell_faces.size(), config_.cell_nodes.size()));
+  cell_faces_ = std::move(cell_faces);
+  faces_ = std::move(faces);
+}
+
 void MembraneSide::initialize() {
   check_call(self_, "initialize()", state_, {State::created});
   guarded([&] {
@@ -84,6 +94,8 @@ void MembraneSide::initialize() {
                     config_.peer_count,
                     config_.first_cell,
                     config_.cell_nodes,
+                    cell_faces_,
+                    faces_,
                     ""};
     if (config_.options.shared_memory && nodes_ > 0 &&
         parse_endpoint(config_.endpoint) == Transport::ipc) {

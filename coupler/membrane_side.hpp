@@ -52,6 +52,10 @@ class MembraneSide {
   MembraneSide(const MembraneSide&) = delete;
   MembraneSide& operator=(const MembraneSide&) = delete;
 
+  /// The triangles of every owned cell (cell_faces: count per cell; faces: 3 local node indices
+  /// per triangle, cell after cell), sent once in the hello for the fluid's viscosity field.
+  /// Before initialize(); without it the hello says the cells have no surface.
+  void set_cell_surfaces(std::vector<std::uint32_t> cell_faces, std::vector<std::uint32_t> faces);
   void initialize();
   /// Exchanges step step(): sends positions and forces (3 x node_count() doubles each,
   /// node-major), waits for the velocities of the same nodes and writes them to `velocities`.
@@ -88,6 +92,7 @@ class MembraneSide {
   void check_welcome(const Handshake& welcome);
 
   MembraneConfig config_;
+  std::vector<std::uint32_t> cell_faces_, faces_;
   std::string self_;
   std::unique_ptr<zmq::context_t> own_context_;  // declared before channel_: socket closes first
   std::unique_ptr<Channel> channel_;

@@ -82,7 +82,7 @@ Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown, std::string_vi
     s.fluid.density_kg_m3 = f->positive("density_kg_m3", s.fluid.density_kg_m3);
     s.fluid.viscosity_Pa_s = f->positive("viscosity_Pa_s", s.fluid.viscosity_Pa_s);
     s.fluid.viscosity_ratio = f->positive("viscosity_ratio", 1.0);
-    double tau_in = 0.5 + s.fluid.viscosity_ratio * (s.lattice.tau - 0.5);
+    const double tau_in = s.tau_inner();
     if (tau_in > 20.0)
       f->fail("viscosity_ratio",
               fmt::format("inner relaxation time {} is too large to be accurate", tau_in));
@@ -190,8 +190,11 @@ std::string Scene::describe() const {
           ? fmt::format(" (from target Re = {} by the plane-Poiseuille estimate)", *drive.reynolds)
           : std::string());
   out += fmt::format(
-      "  lattice: dx {} um, dt {:.6g} s, tau {} ({}{}), nu_lu {:.6g}\n", lattice.dx_um, u.dt_s(),
-      lattice.tau, lattice.collision == CollisionKind::kTrt ? "TRT" : "BGK",
+      "  lattice: dx {} um, dt {:.6g} s, tau {}{} ({}{}), nu_lu {:.6g}\n", lattice.dx_um, u.dt_s(),
+      lattice.tau,
+      fluid.viscosity_ratio != 1.0 ? fmt::format(" outside, {:.6g} inside the cells", tau_inner())
+                                   : std::string(),
+      lattice.collision == CollisionKind::kTrt ? "TRT" : "BGK",
       lattice.collision == CollisionKind::kTrt ? fmt::format(", Lambda {:.6g}", lattice.trt_magic)
                                                : std::string(),
       u.nu_lu());

@@ -78,6 +78,8 @@ struct Scene {
   std::shared_ptr<TomlDocument> document;  ///< the parsed file, for the other programs' tables
 
   LatticeUnits units() const;
+  /// Relaxation time inside the cells: nu_in = ratio nu_out with nu = (tau - 1/2)/3 [-].
+  double tau_inner() const { return 0.5 + fluid.viscosity_ratio * (lattice.tau - 0.5); }
   /// Box size in nodes (whole numbers, checked at load).
   int nx() const;
   int ny() const;

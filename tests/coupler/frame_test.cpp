@@ -32,7 +32,7 @@ TEST(Frame, HeaderLayoutIsLittleEndianAsDocumented) {
   ASSERT_EQ(frame.size(), kHeaderBytes);
   const auto* b = static_cast<const unsigned char*>(frame.data());
   EXPECT_EQ(std::string(reinterpret_cast<const char*>(b), 4), "DLDC");
-  EXPECT_EQ(b[4], 1);  // version, low byte first
+  EXPECT_EQ(b[4], 2);  // version, low byte first
   EXPECT_EQ(b[5], 0);
   EXPECT_EQ(b[6], 5);  // type shutdown
   EXPECT_EQ(b[8], 0x08);
@@ -70,7 +70,7 @@ TEST(Frame, WrongMagicVersionTypeAndLengthAreNamed) {
             std::string::npos);
   EXPECT_NE(error_of([&] {
               read_header(corrupt(4, 9), kLink, 1);
-            }).find("field 'version': expected 1, got 9"),
+            }).find("field 'version': expected 2, got 9"),
             std::string::npos);
   EXPECT_NE(error_of([&] {
               read_header(corrupt(6, 77), kLink, 1);
@@ -114,6 +114,57 @@ TEST(Handshake, RecordRoundTrips) {
   EXPECT_EQ(back.side_name, "membrane-3");
   EXPECT_EQ(back.first_cell, 12u);
   EXPECT_EQ(back.cell_nodes, h.cell_nodes);
+  EXPECT_EQ(back.cell_faces, std::vector<std::uint32_t>(3, 0));  // no surfaces given: none sent
+  EXPECT_TRUE(back.faces.empty());
+}
+
+// The cell surfaces (protocol v2) travel with the hello, cell after cell, with local node indices.
+Handshake two_tetrahedra() {
+  Handshake h;
+  h.side_name = "membrane-0";
+  h.cell_nodes = {4, 5};
+  h.cell_faces = {4, 4};
+  h.faces = {0, 1, 2, 0, 3, 1, 1, 3, 2, 2, 3, 0, 0, 1, 2, 0, 4, 1, 1, 4, 2, 2, 4, 0};
+  return h;
+}
+
+TEST(Handshake, CellSurfacesRoundTrip) {
+  const Handshake h = two_tetrahedra();
+  const zmq::message_t frame = encode_handshake(FrameType::hello, h);
+  const Handshake back = decode_handshake(frame, read_header(frame, kLink, 0), kLink);
+  EXPECT_EQ(back.cell_faces, h.cell_faces);
+  EXPECT_EQ(back.faces, h.faces);
+}
+
+TEST(Handshake, SurfaceIndexBeyondItsCellIsMalformed) {
+  Handshake h = two_tetrahedra();
+  h.faces[3] = 4;  // cell 0 has nodes 0..3 only
+  const zmq::message_t frame = encode_handshake(FrameType::hello, h);
+  try {
+    decode_handshake(frame, read_header(frame, kLink, 0), kLink);
+    FAIL() << "accepted";
+  } catch (const CouplerError& e) {
+    EXPECT_NE(std::string(e.what()).find("field 'faces[1]': node 4 of a cell with 4 nodes (cell 0)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Handshake, SurfaceCountsThatDisagreeAreMalformed) {
+  const Handshake h = two_tetrahedra();
+  zmq::message_t frame = encode_handshake(FrameType::hello, h);
+  // cell_faces[1] lies after the 100 fixed bytes, the name (10), cell_nodes (8) and cell_faces[0].
+  const std::uint32_t three = 3;
+  std::memcpy(static_cast<std::byte*>(frame.data()) + kHeaderBytes + 100 + 10 + 8 + 4, &three, 4);
+  try {
+    decode_handshake(frame, read_header(frame, kLink, 0), kLink);
+    FAIL() << "accepted";
+  } catch (const CouplerError& e) {
+    EXPECT_NE(std::string(e.what()).find(
+                  "field 'cell_faces': the per-cell counts add up to 7, the record carries 8 faces"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(Handshake, MismatchMessageNamesFieldAndBothValues) {

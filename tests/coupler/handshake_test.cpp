@@ -104,14 +104,14 @@ TEST(Handshake, ProtocolVersionMismatchIsNamed) {
                   context);
   RawPeer raw(context, fluid.endpoints()[0], false);
   zmq::message_t hello = encode_handshake(FrameType::hello, hello_for(test_scene(1), {10}));
-  static_cast<std::uint8_t*>(hello.data())[4] = 2;  // a membrane speaking protocol version 2
+  static_cast<std::uint8_t*>(hello.data())[4] = 3;  // a membrane speaking protocol version 3
   raw.send(std::move(hello));
   try {
     fluid.initialize();
     FAIL() << "no error";
   } catch (const CouplerError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "fluid: handshake: field 'protocol_version': fluid has 1, membrane peer 0 has 2");
+              "fluid: handshake: field 'protocol_version': fluid has 2, membrane peer 0 has 3");
   }
   auto reply = raw.receive();
   ASSERT_TRUE(reply);
@@ -171,6 +171,42 @@ TEST(Handshake, MismatchOfOnePeerStopsEveryPeer) {
     EXPECT_NE(e.find("field 'scene_hash'"), std::string::npos) << e;
     EXPECT_NE(e.find("membrane 'membrane-1' has 'sha256:stale'"), std::string::npos) << e;
   }
+}
+
+// The fluid gathers the cell surfaces of every peer in global cell order (protocol v2); a peer
+// without surfaces (a tracer program) reads as cells with zero triangles.
+TEST(Handshake, FluidGathersTheSurfacesOfEveryPeer) {
+  zmq::context_t context;
+  TempDir dir;
+  FluidSide fluid({test_scene(3), fluid_endpoints(Kind::inproc, 2, dir), {}, test_options()},
+                  context);
+  const std::vector<std::uint32_t> tetra{0, 1, 2, 0, 3, 1, 1, 3, 2, 2, 3, 0};
+  std::vector<std::thread> threads;
+  for (std::uint32_t k = 0; k < 2; ++k) {
+    threads.emplace_back([&, k] {
+      const std::vector<std::uint32_t> cells = k == 0 ? std::vector<std::uint32_t>{4, 5}
+                                                      : std::vector<std::uint32_t>{7};
+      MembraneSide m({test_scene(3), fluid.endpoints()[k], "membrane-" + std::to_string(k), k, 2,
+                      k == 0 ? 0u : 2u, cells, test_options()},
+                     context);
+      if (k == 0) {
+        std::vector<std::uint32_t> faces = tetra;
+        for (std::uint32_t v : tetra) faces.push_back(v == 3 ? 4 : v);  // cell 1: apex is node 4
+        m.set_cell_surfaces({4, 4}, faces);
+      }
+      m.initialize();
+      m.finalize();
+    });
+  }
+  fluid.initialize();
+  EXPECT_EQ(std::vector<std::uint32_t>(fluid.cell_faces().begin(), fluid.cell_faces().end()),
+            (std::vector<std::uint32_t>{4, 4, 0}));
+  ASSERT_EQ(fluid.faces().size(), 24u);
+  EXPECT_EQ(fluid.faces()[16], 4u);  // second cell's second triangle: 0, 4, 1
+  while (fluid.receive()) {
+  }
+  fluid.finalize();
+  for (auto& t : threads) t.join();
 }
 
 }  // namespace

@@ -13,10 +13,10 @@ import sys
 
 import zmq
 
-MAGIC, VERSION = b"DLDC", 1
+MAGIC, VERSION = b"DLDC", 2
 HELLO, WELCOME, STEP, VELOCITIES, SHUTDOWN, ERROR = 1, 2, 3, 4, 5, 6
 HEADER = struct.Struct("<4sHHQQ")  # magic, version, type, step, payload bytes: 24 bytes
-FIXED = struct.Struct("<7dQ8I")  # handshake record, fixed part: 96 bytes
+FIXED = struct.Struct("<7dQ9I")  # handshake record, fixed part: 100 bytes
 
 
 def frame(kind, step, payload=b""):
@@ -26,8 +26,10 @@ def frame(kind, step, payload=b""):
 def handshake(scene_hash, doubles, start_step, total_cells, name, index, count, first, cells):
     h, n = scene_hash.encode(), name.encode()
     fixed = FIXED.pack(*doubles, start_step, total_cells, index, count, first, len(cells),
-                       len(h), len(n), 0)
-    return fixed + h + n + struct.pack(f"<{len(cells)}I", *cells)
+                       len(h), len(n), 0, 0)  # no shared memory, no surfaces (faces)
+    cell_faces = [0] * len(cells)
+    return (fixed + h + n + struct.pack(f"<{len(cells)}I", *cells)
+            + struct.pack(f"<{len(cells)}I", *cell_faces))
 
 
 def receive(sock, timeout_ms=5000):

@@ -1,0 +1,189 @@
+// SPDX-License-Identifier: MIT
+#include "fluid/viscosity_contrast.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace dld::fluid {
+
+namespace {
+
+struct P2 {
+  double x, y;
+  std::uint32_t id;  ///< node index within the cell: orders the edges canonically
+};
+
+/// Edge function of edge a -> b at p, evaluated with the endpoints in canonical order (lower node
+/// index first) and negated back: the two triangles of an edge get exactly opposite numbers, and
+/// a column through a vertex gets exactly 0 (the file is built without fused multiply-add).
+double edge(const P2& a, const P2& b, double px, double py) {
+  const P2& lo = a.id < b.id ? a : b;
+  const P2& hi = a.id < b.id ? b : a;
+  const double e = (hi.x - lo.x) * (py - lo.y) - (hi.y - lo.y) * (px - lo.x);
+  return a.id < b.id ? e : -e;
+}
+
+/// Whether a column exactly on edge a -> b of a counter-clockwise triangle counts as inside it:
+/// the answer for the column moved by (eps, eps^2), eps -> 0 (simulation of simplicity,
+/// Edelsbrunner & Muecke 1990, ACM TOG 9:66). The edge function then grows by
+/// -(b.y - a.y) eps + (b.x - a.x) eps^2. The moved column is a generic point, so a closed surface
+/// crosses it an even number of times: ties on shared edges, at vertices and on the silhouette
+/// (where the ray grazes the surface) all pair up.
+bool owns_ties(const P2& a, const P2& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  return dy < 0.0 || (dy == 0.0 && dx > 0.0);
+}
+
+bool covers(double e, bool ties) {
+  return e > 0.0 || (e == 0.0 && ties);
+}
+
+int floor_div(int a, int n) {
+  return a >= 0 ? a / n : -((-a + n - 1) / n);
+}
+
+}  // namespace
+
+ViscosityContrast::ViscosityContrast(const Lattice& lattice, double tau_out, double tau_in,
+                                     std::span<const std::uint32_t> cell_nodes,
+                                     std::span<const std::uint32_t> cell_faces,
+                                     std::span<const std::uint32_t> faces)
+    : lattice_(lattice),
+      tau_out_(tau_out),
+      tau_in_(tau_in),
+      cell_nodes_(cell_nodes.begin(), cell_nodes.end()),
+      cell_faces_(cell_faces.begin(), cell_faces.end()),
+      faces_(faces.begin(), faces.end()) {
+  if (cell_faces_.size() != cell_nodes_.size())
+    throw std::invalid_argument("viscosity contrast: face counts for " +
+                                std::to_string(cell_faces_.size()) + " cells, node counts for " +
+                                std::to_string(cell_nodes_.size()));
+  std::size_t node = 0, face = 0;
+  for (std::size_t c = 0; c < cell_nodes_.size(); ++c) {
+    if (cell_faces_[c] < 4)
+      throw std::invalid_argument(
+          "viscosity contrast: cell " + std::to_string(c) + " has " +
+          std::to_string(cell_faces_[c]) +
+          " triangles; the inside/outside field needs closed membrane surfaces (tracers have "
+          "none: use viscosity_ratio = 1)");
+    first_node_.push_back(node);
+    first_face_.push_back(face);
+    node += cell_nodes_[c];
+    face += cell_faces_[c];
+  }
+  if (3 * face != faces_.size())
+    throw std::invalid_argument("viscosity contrast: " + std::to_string(faces_.size()) +
+                                " face indices for " + std::to_string(face) + " triangles");
+}
+
+void ViscosityContrast::update(std::span<const double> positions, double* tau) {
+  for (std::size_t n : inside_) tau[n] = tau_out_;
+  inside_.clear();
+  unpaired_ = 0;
+  const std::size_t total_nodes = first_node_.empty() ? 0 : first_node_.back() + cell_nodes_.back();
+  if (positions.size() != 3 * total_nodes)
+    throw std::invalid_argument("viscosity contrast: " + std::to_string(positions.size() / 3) +
+                                " markers, the cells have " + std::to_string(total_nodes));
+  for (std::size_t c = 0; c < cell_nodes_.size(); ++c) {
+    rasterise_cell(positions.data() + 3 * first_node_[c], c);
+    fill_cell();
+  }
+  for (std::size_t n : inside_) tau[n] = tau_in_;
+}
+
+// Folds the cell into the box as one piece (by its mean x, so it is never torn apart), then
+// rasterises each triangle in every box frame its x extent reaches: columns beyond x = nx belong
+// to the next box, whose frame is lower by the shift (as in ImmersedBoundary::stencil).
+void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
+  const Domain& d = lattice_.domain();
+  const std::size_t n = cell_nodes_[cell];
+  double mean_x = 0;
+  for (std::size_t m = 0; m < n; ++m) mean_x += x[3 * m];
+  const double wraps = std::floor(mean_x / static_cast<double>(n) / d.nx);
+  folded_.resize(3 * n);
+  for (std::size_t m = 0; m < n; ++m) {
+    folded_[3 * m] = x[3 * m] - wraps * d.nx;
+    folded_[3 * m + 1] = x[3 * m + 1] - wraps * d.shift;
+    folded_[3 * m + 2] = x[3 * m + 2];
+  }
+  crossings_.clear();
+  const std::uint32_t* tri = faces_.data() + 3 * first_face_[cell];
+  for (std::size_t f = 0; f < cell_faces_[cell]; ++f, tri += 3) {
+    const double* v[3] = {&folded_[3 * tri[0]], &folded_[3 * tri[1]], &folded_[3 * tri[2]]};
+    const double xmin = std::min({v[0][0], v[1][0], v[2][0]});
+    const double xmax = std::max({v[0][0], v[1][0], v[2][0]});
+    for (int box = floor_div(static_cast<int>(std::floor(xmin)), d.nx);
+         box <= floor_div(static_cast<int>(std::floor(xmax)), d.nx); ++box) {
+      P2 p[3];
+      for (int q = 0; q < 3; ++q)
+        p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
+      double z[3] = {v[0][2], v[1][2], v[2][2]};
+      // Counter-clockwise in the x-y projection; an edge-on triangle crosses no column.
+      const double area = edge(p[0], p[1], p[2].x, p[2].y);
+      if (area == 0.0) continue;
+      if (area < 0.0) {
+        std::swap(p[1], p[2]);
+        std::swap(z[1], z[2]);
+      }
+      const bool tie01 = owns_ties(p[0], p[1]), tie12 = owns_ties(p[1], p[2]),
+                 tie20 = owns_ties(p[2], p[0]);
+      const int i0 = std::max(0, static_cast<int>(std::ceil(xmin - box * d.nx - 0.5)));
+      const int i1 = std::min(d.nx - 1, static_cast<int>(std::floor(xmax - box * d.nx - 0.5)));
+      const double ymin = std::min({p[0].y, p[1].y, p[2].y});
+      const double ymax = std::max({p[0].y, p[1].y, p[2].y});
+      const int j0 = static_cast<int>(std::ceil(ymin - 0.5));
+      const int j1 = static_cast<int>(std::floor(ymax - 0.5));
+      for (int i = i0; i <= i1; ++i) {
+        const double px = i + 0.5;
+        for (int j = j0; j <= j1; ++j) {
+          const double py = j + 0.5;
+          const double e0 = edge(p[1], p[2], px, py);  // weight of vertex 0
+          const double e1 = edge(p[2], p[0], px, py);
+          const double e2 = edge(p[0], p[1], px, py);
+          if (!covers(e0, tie12) || !covers(e1, tie20) || !covers(e2, tie01)) continue;
+          const double zc = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / (e0 + e1 + e2);
+          const int jw = ((j % d.ny) + d.ny) % d.ny;
+          crossings_.push_back({static_cast<std::uint64_t>(jw) * d.nx + i, zc});
+        }
+      }
+    }
+  }
+}
+
+// Sorts the crossings by column and height and marks the nodes between the 1st and 2nd, 3rd and
+// 4th, ... crossing of each column. z is unwrapped, so a cell across a periodic z face still pairs
+// up; its nodes are wrapped when marked.
+void ViscosityContrast::fill_cell() {
+  const Domain& d = lattice_.domain();
+  const std::uint8_t* solid = lattice_.solid_mask().data();
+  std::sort(crossings_.begin(), crossings_.end(), [](const Crossing& a, const Crossing& b) {
+    return a.column != b.column ? a.column < b.column : a.z < b.z;
+  });
+  std::size_t a = 0;
+  while (a < crossings_.size()) {
+    std::size_t b = a;
+    while (b < crossings_.size() && crossings_[b].column == crossings_[a].column) ++b;
+    if ((b - a) % 2 != 0) ++unpaired_;
+    const int i = static_cast<int>(crossings_[a].column % d.nx);
+    const int j = static_cast<int>(crossings_[a].column / d.nx);
+    for (std::size_t q = a; q + 1 < b; q += 2) {
+      const int k0 = static_cast<int>(std::ceil(crossings_[q].z - 0.5));
+      const int k1 = static_cast<int>(std::floor(crossings_[q + 1].z - 0.5));
+      for (int k = k0; k <= k1; ++k) {
+        int kw = k;
+        if (d.walls_z) {
+          if (k < 0 || k >= d.nz) continue;
+        } else {
+          kw = ((k % d.nz) + d.nz) % d.nz;
+        }
+        const std::size_t node = lattice_.index(i, j, kw);
+        if (!solid[node]) inside_.push_back(node);
+      }
+    }
+    a = b;
+  }
+}
+
+}  // namespace dld::fluid
