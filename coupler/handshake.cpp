@@ -38,12 +38,12 @@ zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
     put(at, v);
   }
   put(at, r.scene.start_step);
-  for (std::uint32_t v : {r.scene.total_cells, r.peer_index, r.peer_count, r.first_cell,
-                          static_cast<std::uint32_t>(cells),
-                          static_cast<std::uint32_t>(r.scene.scene_hash.size()),
-                          static_cast<std::uint32_t>(r.side_name.size()),
-                          static_cast<std::uint32_t>(r.shared_memory.size()),
-                          static_cast<std::uint32_t>(r.faces.size() / 3)}) {
+  for (std::uint32_t v :
+       {r.scene.total_cells, r.peer_index, r.peer_count, r.first_cell,
+        static_cast<std::uint32_t>(cells), static_cast<std::uint32_t>(r.scene.scene_hash.size()),
+        static_cast<std::uint32_t>(r.side_name.size()),
+        static_cast<std::uint32_t>(r.shared_memory.size()),
+        static_cast<std::uint32_t>(r.faces.size() / 3)}) {
     put(at, v);
   }
   auto put_bytes = [&](const void* data, std::size_t n) {
@@ -100,10 +100,10 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   const std::size_t expected = kHandshakeFixedBytes + hash_bytes + name_bytes + 8ull * cells +
                                shm_bytes + 12ull * face_count;
   if (header.payload_bytes != expected) {
-    throw_malformed(link, header.step, "payload_bytes",
-                    fmt::format("{} record with {} cells and {} faces needs {} bytes, got {}",
-                                to_string(header.type), cells, face_count, expected,
-                                header.payload_bytes));
+    throw_malformed(
+        link, header.step, "payload_bytes",
+        fmt::format("{} record with {} cells and {} faces needs {} bytes, got {}",
+                    to_string(header.type), cells, face_count, expected, header.payload_bytes));
   }
   r.scene.scene_hash.assign(reinterpret_cast<const char*>(at), hash_bytes);
   at += hash_bytes;

@@ -117,8 +117,7 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
     for (int box = floor_div(static_cast<int>(std::floor(xmin)), d.nx);
          box <= floor_div(static_cast<int>(std::floor(xmax)), d.nx); ++box) {
       P2 p[3];
-      for (int q = 0; q < 3; ++q)
-        p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
+      for (int q = 0; q < 3; ++q) p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
       double z[3] = {v[0][2], v[1][2], v[2][2]};
       // Counter-clockwise in the x-y projection; an edge-on triangle crosses no column.
       const double area = edge(p[0], p[1], p[2].x, p[2].y);

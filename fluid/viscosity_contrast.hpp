@@ -56,9 +56,9 @@ class ViscosityContrast {
   double tau_out_, tau_in_;
   std::vector<std::uint32_t> cell_nodes_, cell_faces_, faces_;
   std::vector<std::size_t> first_node_, first_face_;
-  std::vector<double> folded_;         ///< one cell's markers folded into the box frame
-  std::vector<Crossing> crossings_;    ///< one cell's crossings
-  std::vector<std::size_t> inside_;    ///< nodes currently at tau_in
+  std::vector<double> folded_;       ///< one cell's markers folded into the box frame
+  std::vector<Crossing> crossings_;  ///< one cell's crossings
+  std::vector<std::size_t> inside_;  ///< nodes currently at tau_in
   std::size_t unpaired_ = 0;
 };
 

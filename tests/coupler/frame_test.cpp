@@ -144,8 +144,9 @@ TEST(Handshake, SurfaceIndexBeyondItsCellIsMalformed) {
     decode_handshake(frame, read_header(frame, kLink, 0), kLink);
     FAIL() << "accepted";
   } catch (const CouplerError& e) {
-    EXPECT_NE(std::string(e.what()).find("field 'faces[1]': node 4 of a cell with 4 nodes (cell 0)"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find("field 'faces[1]': node 4 of a cell with 4 nodes (cell 0)"),
+        std::string::npos)
         << e.what();
   }
 }
@@ -160,9 +161,10 @@ TEST(Handshake, SurfaceCountsThatDisagreeAreMalformed) {
     decode_handshake(frame, read_header(frame, kLink, 0), kLink);
     FAIL() << "accepted";
   } catch (const CouplerError& e) {
-    EXPECT_NE(std::string(e.what()).find(
-                  "field 'cell_faces': the per-cell counts add up to 7, the record carries 8 faces"),
-              std::string::npos)
+    EXPECT_NE(
+        std::string(e.what()).find(
+            "field 'cell_faces': the per-cell counts add up to 7, the record carries 8 faces"),
+        std::string::npos)
         << e.what();
   }
 }

@@ -184,8 +184,8 @@ TEST(Handshake, FluidGathersTheSurfacesOfEveryPeer) {
   std::vector<std::thread> threads;
   for (std::uint32_t k = 0; k < 2; ++k) {
     threads.emplace_back([&, k] {
-      const std::vector<std::uint32_t> cells = k == 0 ? std::vector<std::uint32_t>{4, 5}
-                                                      : std::vector<std::uint32_t>{7};
+      const std::vector<std::uint32_t> cells =
+          k == 0 ? std::vector<std::uint32_t>{4, 5} : std::vector<std::uint32_t>{7};
       MembraneSide m({test_scene(3), fluid.endpoints()[k], "membrane-" + std::to_string(k), k, 2,
                       k == 0 ? 0u : 2u, cells, test_options()},
                      context);

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <stdlib.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include "fluid/collision.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/immersed_boundary.hpp"
+#include "fluid/viscosity_contrast.hpp"
 #include "membrane/cell_set.hpp"
 #include "membrane/sphere_mesh.hpp"
 #include "membrane/taylor_deformation.hpp"
@@ -163,6 +165,15 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
   std::thread fluid_thread([&] {
     try {
       fluid_side.initialize();
+      // The contrast is built from the triangles the membrane sent in its hello (protocol v2),
+      // as dld-fluid does.
+      std::unique_ptr<fluid::ViscosityContrast> contrast;
+      if (s.viscosity_ratio != 1.0) {
+        contrast = std::make_unique<fluid::ViscosityContrast>(
+            solver.lattice(), s.tau, 0.5 + s.viscosity_ratio * (s.tau - 0.5),
+            fluid_side.cell_nodes(), fluid_side.cell_faces(), fluid_side.faces());
+        run.inside_min = 1e300;
+      }
       std::vector<double> velocity;
       const std::size_t n = solver.lattice().padded_size();
       while (fluid_side.receive()) {
@@ -170,6 +181,12 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
         const auto f = fluid_side.forces();
         const auto field = solver.force_field();
         ib.spread(x, f, field);
+        if (contrast) {
+          contrast->update(x, solver.tau_field());
+          const double inside = static_cast<double>(contrast->inside_nodes().size()) / volume0;
+          run.inside_min = std::min(run.inside_min, inside);
+          run.inside_max = std::max(run.inside_max, inside);
+        }
         if (fluid_side.step() % static_cast<std::uint64_t>(s.sample_every) == 0) {
           for (int c = 0; c < 3; ++c) {
             double on_lattice = 0, on_markers = 0, magnitude = 0;
@@ -205,6 +222,10 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
               id, endpoint, "capsule", 0, 1, 0, {static_cast<std::uint32_t>(run.nodes)}, options()},
           context);
       auto& side = *owned;
+      std::vector<std::uint32_t> triangles;
+      for (const auto& f : mesh.faces)
+        for (int v : f) triangles.push_back(static_cast<std::uint32_t>(v));
+      side.set_cell_surfaces({static_cast<std::uint32_t>(run.faces)}, std::move(triangles));
       side.initialize();
       membrane::Points force;
       std::vector<double> velocity(3 * static_cast<std::size_t>(run.nodes));

@@ -31,10 +31,11 @@ struct CapsuleShearSetup {
   /// (Ramanujan & Pozrikidis 1998; tests/data/capsule_shear/README.md).
   double capillary = 0.1;
   MembraneLaw law = MembraneLaw::neo_hookean;
-  double skalak_c = 1.0;   ///< C = kappa_alpha/kappa_s (Skalak only)
-  double strain = 4.0;     ///< gammadot t at the end of the run
-  std::int64_t steps = 0;  ///< if > 0: run exactly this many steps instead of `strain`
-  int sample_every = 50;   ///< steps between shape samples
+  double skalak_c = 1.0;         ///< C = kappa_alpha/kappa_s (Skalak only)
+  double viscosity_ratio = 1.0;  ///< lambda = inner / outer viscosity (1: no contrast field)
+  double strain = 4.0;           ///< gammadot t at the end of the run
+  std::int64_t steps = 0;        ///< if > 0: run exactly this many steps instead of `strain`
+  int sample_every = 50;         ///< steps between shape samples
   fluid::IbKernel kernel = fluid::IbKernel::kPeskin4;
   Transport transport = Transport::inproc;
 };
@@ -56,6 +57,9 @@ struct CapsuleShearRun {
   /// Largest |sum of the marker forces| / sum |marker forces|: the membrane's forces are internal.
   double net_force = 0;
   double wall_seconds = 0;
+  /// With a viscosity contrast: fewest and most lattice nodes marked inside over the run, per
+  /// initial enclosed volume (1 for a field that follows the capsule).
+  double inside_min = 0, inside_max = 0;
 };
 
 /// G_s = mu gammadot a / (3 Ca) for Ca = mu gammadot a / E_s, E_s = 3 G_s

@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
   app.add_option("--sample-every", s.sample_every, "steps between shape samples");
   app.add_option("--law", law, "neo_hookean or skalak");
   app.add_option("--skalak-c", s.skalak_c, "Skalak C = kappa_alpha / kappa_s");
+  app.add_option("--viscosity-ratio", s.viscosity_ratio, "lambda = inner / outer viscosity")
+      ->check(CLI::PositiveNumber);
   app.add_option("--transport", transport, "inproc, ipc or tcp");
   app.add_option("--settled", settled, "steady D: mean over the last fraction of the strain");
   app.add_option("--csv", csv, "write gammadot_t, D, inclination, volume ratio here");

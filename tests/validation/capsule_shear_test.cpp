@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdio>
 
 #include "membrane/sphere_mesh.hpp"
 #include "membrane/taylor_deformation.hpp"
@@ -89,6 +90,23 @@ TEST(CapsuleShear, TinyCapsuleElongatesAlongTheExtensionalAxis) {
   EXPECT_LT(r.net_force, 1e-12);
   EXPECT_LT(r.spread_error, 1e-12);
   EXPECT_LT(std::abs(r.volume.back() - 1.0), 0.01);
+}
+
+// The inside/outside field follows the capsule as it deforms, and a viscous interior slows the
+// deformation (the membrane has to shear the inner fluid five times as hard).
+TEST(CapsuleShear, ViscousInteriorFollowsTheCapsuleAndSlowsItsDeformation) {
+  const CapsuleShearRun plain = run_capsule_shear(tiny(Transport::inproc, 500));
+  CapsuleShearSetup s = tiny(Transport::inproc, 500);
+  s.viscosity_ratio = 5.0;
+  const CapsuleShearRun viscous = run_capsule_shear(s);
+  EXPECT_GT(viscous.inside_min, 0.9);
+  EXPECT_LT(viscous.inside_max, 1.1);
+  std::printf("D at gammadot t = %.2f: lambda 1 %.4f, lambda 5 %.4f; inside / volume %.3f-%.3f\n",
+              plain.strain.back(), plain.deformation.back(), viscous.deformation.back(),
+              viscous.inside_min, viscous.inside_max);
+  EXPECT_LT(viscous.deformation.back(), 0.95 * plain.deformation.back());
+  EXPECT_GT(viscous.deformation.back(), 0.02);  // still deforming, not frozen
+  EXPECT_LT(std::abs(viscous.volume.back() - 1.0), 0.01);
 }
 
 TEST(CapsuleShear, TransportsGiveTheSameRun) {
