@@ -47,7 +47,9 @@ zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
     put(at, v);
   }
   auto put_bytes = [&](const void* data, std::size_t n) {
-    if (n > 0) std::memcpy(at, data, n);
+    if (n > 0) {
+      std::memcpy(at, data, n);
+    }
     at += n;
   };
   put_bytes(r.scene.scene_hash.data(), r.scene.scene_hash.size());
@@ -122,7 +124,9 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   // The surfaces must fit the cells they belong to: a stray index would send the fluid's
   // inside/outside test to another cell's (or no) node.
   std::size_t total = 0, next = 0;
-  for (std::size_t c = 0; c < cells; ++c) total += r.cell_faces[c];
+  for (std::size_t c = 0; c < cells; ++c) {
+    total += r.cell_faces[c];
+  }
   if (total != face_count) {
     throw_malformed(link, header.step, "cell_faces",
                     fmt::format("the per-cell counts add up to {}, the record carries {} faces",

@@ -78,9 +78,10 @@ auto MembraneSide::guarded(Body&& body) {
 void MembraneSide::set_cell_surfaces(std::vector<std::uint32_t> cell_faces,
                                      std::vector<std::uint32_t> faces) {
   check_call(self_, "set_cell_surfaces()", state_, {State::created});
-  if (cell_faces.size() != config_.cell_nodes.size())
+  if (cell_faces.size() != config_.cell_nodes.size()) {
     throw CouplerError(fmt::format("{}: surfaces for {} cells, the side owns {}", self_,
                                    cell_faces.size(), config_.cell_nodes.size()));
+  }
   cell_faces_ = std::move(cell_faces);
   faces_ = std::move(faces);
 }

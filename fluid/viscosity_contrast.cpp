@@ -56,41 +56,49 @@ ViscosityContrast::ViscosityContrast(const Lattice& lattice, double tau_out, dou
       cell_nodes_(cell_nodes.begin(), cell_nodes.end()),
       cell_faces_(cell_faces.begin(), cell_faces.end()),
       faces_(faces.begin(), faces.end()) {
-  if (cell_faces_.size() != cell_nodes_.size())
+  if (cell_faces_.size() != cell_nodes_.size()) {
     throw std::invalid_argument("viscosity contrast: face counts for " +
                                 std::to_string(cell_faces_.size()) + " cells, node counts for " +
                                 std::to_string(cell_nodes_.size()));
+  }
   std::size_t node = 0, face = 0;
   for (std::size_t c = 0; c < cell_nodes_.size(); ++c) {
-    if (cell_faces_[c] < 4)
+    if (cell_faces_[c] < 4) {
       throw std::invalid_argument(
           "viscosity contrast: cell " + std::to_string(c) + " has " +
           std::to_string(cell_faces_[c]) +
           " triangles; the inside/outside field needs closed membrane surfaces (tracers have "
           "none: use viscosity_ratio = 1)");
+    }
     first_node_.push_back(node);
     first_face_.push_back(face);
     node += cell_nodes_[c];
     face += cell_faces_[c];
   }
-  if (3 * face != faces_.size())
+  if (3 * face != faces_.size()) {
     throw std::invalid_argument("viscosity contrast: " + std::to_string(faces_.size()) +
                                 " face indices for " + std::to_string(face) + " triangles");
+  }
 }
 
 void ViscosityContrast::update(std::span<const double> positions, double* tau) {
-  for (std::size_t n : inside_) tau[n] = tau_out_;
+  for (std::size_t n : inside_) {
+    tau[n] = tau_out_;
+  }
   inside_.clear();
   unpaired_ = 0;
   const std::size_t total_nodes = first_node_.empty() ? 0 : first_node_.back() + cell_nodes_.back();
-  if (positions.size() != 3 * total_nodes)
+  if (positions.size() != 3 * total_nodes) {
     throw std::invalid_argument("viscosity contrast: " + std::to_string(positions.size() / 3) +
                                 " markers, the cells have " + std::to_string(total_nodes));
+  }
   for (std::size_t c = 0; c < cell_nodes_.size(); ++c) {
     rasterise_cell(positions.data() + 3 * first_node_[c], c);
     fill_cell();
   }
-  for (std::size_t n : inside_) tau[n] = tau_in_;
+  for (std::size_t n : inside_) {
+    tau[n] = tau_in_;
+  }
 }
 
 // Folds the cell into the box as one piece (by its mean x, so it is never torn apart), then
@@ -100,7 +108,9 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
   const Domain& d = lattice_.domain();
   const std::size_t n = cell_nodes_[cell];
   double mean_x = 0;
-  for (std::size_t m = 0; m < n; ++m) mean_x += x[3 * m];
+  for (std::size_t m = 0; m < n; ++m) {
+    mean_x += x[3 * m];
+  }
   const double wraps = std::floor(mean_x / static_cast<double>(n) / d.nx);
   folded_.resize(3 * n);
   for (std::size_t m = 0; m < n; ++m) {
@@ -111,17 +121,22 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
   crossings_.clear();
   const std::uint32_t* tri = faces_.data() + 3 * first_face_[cell];
   for (std::size_t f = 0; f < cell_faces_[cell]; ++f, tri += 3) {
-    const double* v[3] = {&folded_[3 * tri[0]], &folded_[3 * tri[1]], &folded_[3 * tri[2]]};
+    const double* v[3] = {&folded_[3 * std::size_t{tri[0]}], &folded_[3 * std::size_t{tri[1]}],
+                          &folded_[3 * std::size_t{tri[2]}]};
     const double xmin = std::min({v[0][0], v[1][0], v[2][0]});
     const double xmax = std::max({v[0][0], v[1][0], v[2][0]});
     for (int box = floor_div(static_cast<int>(std::floor(xmin)), d.nx);
          box <= floor_div(static_cast<int>(std::floor(xmax)), d.nx); ++box) {
       P2 p[3];
-      for (int q = 0; q < 3; ++q) p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
+      for (int q = 0; q < 3; ++q) {
+        p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
+      }
       double z[3] = {v[0][2], v[1][2], v[2][2]};
       // Counter-clockwise in the x-y projection; an edge-on triangle crosses no column.
       const double area = edge(p[0], p[1], p[2].x, p[2].y);
-      if (area == 0.0) continue;
+      if (area == 0.0) {
+        continue;
+      }
       if (area < 0.0) {
         std::swap(p[1], p[2]);
         std::swap(z[1], z[2]);
@@ -141,7 +156,9 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
           const double e0 = edge(p[1], p[2], px, py);  // weight of vertex 0
           const double e1 = edge(p[2], p[0], px, py);
           const double e2 = edge(p[0], p[1], px, py);
-          if (!covers(e0, tie12) || !covers(e1, tie20) || !covers(e2, tie01)) continue;
+          if (!covers(e0, tie12) || !covers(e1, tie20) || !covers(e2, tie01)) {
+            continue;
+          }
           const double zc = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / (e0 + e1 + e2);
           const int jw = ((j % d.ny) + d.ny) % d.ny;
           crossings_.push_back({static_cast<std::uint64_t>(jw) * d.nx + i, zc});
@@ -163,8 +180,12 @@ void ViscosityContrast::fill_cell() {
   std::size_t a = 0;
   while (a < crossings_.size()) {
     std::size_t b = a;
-    while (b < crossings_.size() && crossings_[b].column == crossings_[a].column) ++b;
-    if ((b - a) % 2 != 0) ++unpaired_;
+    while (b < crossings_.size() && crossings_[b].column == crossings_[a].column) {
+      ++b;
+    }
+    if ((b - a) % 2 != 0) {
+      ++unpaired_;
+    }
     const int i = static_cast<int>(crossings_[a].column % d.nx);
     const int j = static_cast<int>(crossings_[a].column / d.nx);
     for (std::size_t q = a; q + 1 < b; q += 2) {
@@ -173,12 +194,16 @@ void ViscosityContrast::fill_cell() {
       for (int k = k0; k <= k1; ++k) {
         int kw = k;
         if (d.walls_z) {
-          if (k < 0 || k >= d.nz) continue;
+          if (k < 0 || k >= d.nz) {
+            continue;
+          }
         } else {
           kw = ((k % d.nz) + d.nz) % d.nz;
         }
         const std::size_t node = lattice_.index(i, j, kw);
-        if (!solid[node]) inside_.push_back(node);
+        if (!solid[node]) {
+          inside_.push_back(node);
+        }
       }
     }
     a = b;
