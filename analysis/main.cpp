@@ -31,9 +31,14 @@ struct Options {
   bool no_plots = false;
 };
 
+/// The command line, else the scene (stated in the run file), else the dilute-limit map: the more
+/// specific source wins, and the map is not read when it would not be used.
 ExpectedMode expected_mode(const Options& o, const Run& run) {
   if (!o.expected_mode.empty()) {
     return {parse_expected_mode(o.expected_mode, "--expected-mode"), "given by --expected-mode"};
+  }
+  if (run.expected_mode) {
+    return {*run.expected_mode, "given by the scene (run file attribute /cells expected_mode)"};
   }
   std::string file = o.modes_file;
   if (file.empty()) {
@@ -92,7 +97,8 @@ int run(int argc, char** argv) {
           },
           "N >= 1"));
   app.add_option("--expected-mode", o.expected_mode,
-                 "zigzag or displacement (default: from the dilute-limit map)");
+                 "zigzag or displacement (default: the run file's, from the scene, else the "
+                 "dilute-limit map)");
   app.add_option("--modes", o.modes_file,
                  "dilute-limit map (default: configs/study/dilute_modes.toml)");
   app.add_flag("--no-plots", o.no_plots, "CSVs only");

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <regex>
 
+#include "analysis/expected_mode.hpp"
 #include "analysis/unwrap.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
@@ -61,6 +62,12 @@ Run read_run_file(const std::string& path) {
   try {
     r.capillary_number = number("capillary_number");
   } catch (const InputError&) {  // optional: scenes without a capillary number
+  }
+  // Optional too (scenes that leave it to the dilute-limit map), but a value that is there must be
+  // a mode: a typo must not quietly hand the run to the map.
+  if (f.has_attribute("/cells", "expected_mode")) {
+    r.expected_mode = parse_expected_mode(f.read_attribute_string("/cells", "expected_mode"),
+                                          path + ": /cells expected_mode");
   }
 
   std::vector<std::uint64_t> dims;
@@ -121,6 +128,12 @@ Run merge_runs(std::vector<Run> parts) {
     if (r.capillary_number != out.capillary_number) {
       throw mismatch("capillary_number", out.capillary_number.value_or(NAN),
                      r.capillary_number.value_or(NAN));
+    }
+    if (r.expected_mode != out.expected_mode) {
+      const auto name = [](const std::optional<TransportMode>& m) {
+        return m ? to_string(*m) : std::string("(none)");
+      };
+      throw mismatch("expected_mode", name(out.expected_mode), name(r.expected_mode));
     }
     for (const CellTrack& t : r.cells) {
       for (const CellTrack& o : out.cells) {

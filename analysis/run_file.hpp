@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "shared/column_tracker.hpp"
+
 namespace dld::analysis {
 
 /// One cell's centroid path in device coordinates [um], one entry per saved sample.
@@ -27,6 +29,8 @@ struct Run {
   double row_shift_um = 0;  ///< row shift d
   double dt_s = 0;
   std::optional<double> capillary_number;
+  /// The scene's [cells] expected_mode (attribute expected_mode): kZigzag or kDisplacement.
+  std::optional<TransportMode> expected_mode;
   std::vector<std::string> files;
   std::vector<std::string> skipped;  ///< checkpoint files among the inputs (not read)
   std::vector<CellTrack> cells;      ///< ordered by id

@@ -40,6 +40,7 @@ struct RunFacts {
   double dt_s = 0, lambda_um = 0, row_shift_um = 0;
   std::string scene_name;
   std::optional<double> capillary_number;
+  std::optional<TransportMode> expected_mode;  ///< the scene's [cells] expected_mode, if stated
 };
 
 /// Writes the samples to `path` through a temporary file and a rename, so a reader (or a crash)
@@ -63,6 +64,8 @@ void write_samples(const std::string& path, const std::vector<double>& rows, con
     f.attribute("/cells", "row_shift_um", r.row_shift_um);
     f.attribute("/cells", "scene_name", r.scene_name);
     if (r.capillary_number) f.attribute("/cells", "capillary_number", *r.capillary_number);
+    // Only when stated: without it dld-analyze falls back to its dilute-limit map.
+    if (r.expected_mode) f.attribute("/cells", "expected_mode", to_string(*r.expected_mode));
   }
   std::filesystem::rename(tmp, path);
 }
@@ -111,8 +114,8 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
 
   const double dx_um = scene.lattice.dx_um;
   const RunFacts facts{
-      cells.cell_count(),  first,      scene.units().dt_s(),   scene.cell_um.lambda,
-      scene.cell_um.shift, scene.name, capillary_number(scene)};
+      cells.cell_count(),  first,      scene.units().dt_s(),    scene.cell_um.lambda,
+      scene.cell_um.shift, scene.name, capillary_number(scene), m.expected_mode};
   auto centroids_um = [&] {
     std::vector<Eigen::Vector3d> c;
     for (int k = 0; k < cells.cell_count(); ++k) c.push_back(cells.centroid(k) * dx_um);

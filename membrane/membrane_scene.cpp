@@ -173,6 +173,13 @@ MembraneScene read_membrane_scene(const Scene& scene) {
       for (const char* key : {"seed", "packing_cache"})
         if (cells->has(key)) cells->fail(key, "only used with count (cells packed at random)");
     }
+    if (cells->has("expected_mode")) {
+      // Spelled as to_string writes the modes: dld-analyze reads them back from the run file.
+      const std::string zigzag = to_string(TransportMode::kZigzag);
+      const std::string v =
+          cells->choice("expected_mode", {zigzag, to_string(TransportMode::kDisplacement)});
+      out.expected_mode = v == zigzag ? TransportMode::kZigzag : TransportMode::kDisplacement;
+    }
     for (const TomlSection& c : cells->sections("cell")) {
       const auto p = c.numbers("centre_um");
       if (p.size() != 3) c.fail("centre_um", "expected [x, y, z] in um");

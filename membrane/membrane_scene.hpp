@@ -13,6 +13,7 @@
 #include "membrane/packing_cache.hpp"
 #include "membrane/relaxation.hpp"
 #include "membrane/stretching.hpp"
+#include "shared/column_tracker.hpp"
 #include "shared/scene.hpp"
 
 namespace dld::membrane {
@@ -51,6 +52,9 @@ struct MembraneScene {
   std::vector<Eigen::Vector3d> centres_lu;
   std::vector<double> angles_rad;
   std::optional<PackRequest> pack;  ///< instead of centres_lu
+  /// [cells] expected_mode (zigzag or displacement): what a single cell does in this device, when
+  /// the scene states it; written into the run file, where dld-analyze prefers it to its map.
+  std::optional<TransportMode> expected_mode;
   std::optional<StretchTask> stretch;
   std::optional<RelaxTask> relax;
 

@@ -219,6 +219,11 @@ std::vector<double> H5File::read(const std::string& name, std::vector<std::uint6
   return out;
 }
 
+bool H5File::has_attribute(const std::string& object, const std::string& name) const {
+  Id obj{open_object(id_, path_, object), H5Oclose};
+  return H5Aexists(obj.id, name.c_str()) > 0;
+}
+
 double H5File::read_attribute_number(const std::string& object, const std::string& name) const {
   Id obj{open_object(id_, path_, object), H5Oclose};
   if (H5Aexists(obj.id, name.c_str()) <= 0)
@@ -236,6 +241,10 @@ std::string H5File::read_attribute_string(const std::string& object,
     throw InputError(fmt::format("{}: {} has no attribute '{}'", path_, object, name));
   Id attr{H5Aopen(obj.id, name.c_str(), H5P_DEFAULT), H5Aclose};
   Id type{H5Aget_type(attr.id), H5Tclose};
+  // Raw bytes of a number (or a pointer, for a variable-length string) would be read as text.
+  if (H5Tget_class(type.id) != H5T_STRING || H5Tis_variable_str(type.id) > 0)
+    throw InputError(
+        fmt::format("{}: {} attribute '{}': expected a fixed-length string", path_, object, name));
   std::string s(H5Tget_size(type.id), '\0');
   check(H5Aread(attr.id, type.id, s.data()), path_, "reading attribute " + name);
   s.resize(s.find('\0') == std::string::npos ? s.size() : s.find('\0'));

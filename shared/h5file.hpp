@@ -43,7 +43,9 @@ class H5File {
   /// Reads a dataset of doubles (any float type is converted); dims returned through `dims`.
   std::vector<double> read(const std::string& name,
                            std::vector<std::uint64_t>* dims = nullptr) const;
+  bool has_attribute(const std::string& object, const std::string& name) const;
   double read_attribute_number(const std::string& object, const std::string& name) const;
+  /// A fixed-length string attribute (as attribute() writes); another type is an InputError.
   std::string read_attribute_string(const std::string& object, const std::string& name) const;
 
  private:

@@ -101,6 +101,79 @@ TEST(DldAnalyze, WritesTablesAndPlotsForARunOfTwoFiles) {
   EXPECT_GT(fs::file_size(dir + "/out/run-outlets.png"), 1000u);
 }
 
+/// Column `name` of the one data row of a summary CSV (fields may be quoted, with commas inside).
+std::string summary_field(const std::string& path, const std::string& name) {
+  const auto split = [](const std::string& line) {
+    std::vector<std::string> out(1);
+    bool quoted = false;
+    for (std::size_t i = 0; i < line.size(); ++i) {
+      if (line[i] == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"') {
+        out.back() += '"';
+        ++i;
+      } else if (line[i] == '"') {
+        quoted = !quoted;
+      } else if (line[i] == ',' && !quoted) {
+        out.emplace_back();
+      } else {
+        out.back() += line[i];
+      }
+    }
+    return out;
+  };
+  const auto rows = lines(path);
+  if (rows.size() != 2) {
+    return "(" + path + " has " + std::to_string(rows.size()) + " lines)";
+  }
+  const auto head = split(rows[0]), row = split(rows[1]);
+  for (std::size_t i = 0; i < head.size() && i < row.size(); ++i) {
+    if (head[i] == name) {
+      return row[i];
+    }
+  }
+  return "(no column " + name + ")";
+}
+
+TEST(DldAnalyze, ExpectedModeFromTheRunFileBeatsTheMapAndLosesToTheCommandLine) {
+  const std::string dir = testing::temp_dir("cli-mode");
+  // The map says displacement for this (d, Ca); the scene stated zigzag; the cell zigzags.
+  std::ofstream(dir + "/map.toml") << "[[mode]]\nrow_shift_um = 4.4\ncapillary_number = 0.5\n"
+                                      "mode = \"displacement\"\nsource = \"test map\"\n";
+  const auto zigzag = [](double c) { return testing::wiggle(c); };
+  write_run_file(dir + "/map-cells-0.h5", {track(0, 3.0, 1.0, 12.5, zigzag, 600)}, {});
+  write_run_file(dir + "/scene-cells-0.h5", {track(0, 3.0, 1.0, 12.5, zigzag, 600)},
+                 {.expected_mode = "zigzag"});
+  const auto analyze = [&](const std::string& name, const std::string& args) {
+    const Result r = run(std::string(DLD_ANALYZE_EXE) + " " + dir + "/" + name +
+                             "-cells-0.h5 --pillars 10 --no-plots --modes " + dir + "/map.toml " +
+                             args + " -o " + dir + "/" + name,
+                         dir);
+    EXPECT_EQ(r.status, 0) << r.output;
+    return r.output;
+  };
+  const auto summary = [&](const std::string& name, const std::string& column) {
+    return summary_field(dir + "/" + name + "/" + name + "-summary.csv", column);
+  };
+  // Without the attribute the map decides: it really disagrees with the scene below.
+  std::string out = analyze("map", "");
+  EXPECT_NE(out.find("expected mode: displacement (" + dir + "/map.toml"), std::string::npos)
+      << out;
+  EXPECT_EQ(summary("map", "expected_mode"), "displacement");
+  // The scene's attribute wins over the map, in the terminal and in the summary.
+  const std::string scene = "given by the scene (run file attribute /cells expected_mode)";
+  out = analyze("scene", "");
+  EXPECT_NE(out.find("expected mode: zigzag (" + scene + ")"), std::string::npos) << out;
+  EXPECT_EQ(summary("scene", "expected_mode"), "zigzag");
+  EXPECT_EQ(summary("scene", "expected_source"), scene);
+  EXPECT_EQ(summary("scene", "failure"), "p_fZ");
+  EXPECT_NEAR(std::stod(summary("scene", "p_f_mean")), 0.0, 1e-9);  // an ideal zigzag cell
+  // The command line wins over the attribute.
+  out = analyze("scene", "--expected-mode displacement");
+  EXPECT_NE(out.find("expected mode: displacement (given by --expected-mode)"), std::string::npos)
+      << out;
+  EXPECT_EQ(summary("scene", "expected_mode"), "displacement");
+  EXPECT_EQ(summary("scene", "expected_source"), "given by --expected-mode");
+}
+
 TEST(DldAnalyze, BadInputIsOneErrorLineAndANonZeroExit) {
   const std::string dir = testing::temp_dir("cli-bad");
   write_run_file(dir + "/ok-cells-0.h5",
@@ -122,6 +195,12 @@ TEST(DldAnalyze, BadInputIsOneErrorLineAndANonZeroExit) {
   expect_error(dir + "/ok-cells-0.h5 --modes " + dir + "/nomap.toml", "nomap.toml");
   expect_error("", "no run file given");
   expect_error(dir + "/ok-cells-0.h5 --pillars 2.5", "--pillars: '2.5' is not a whole number");
+  write_run_file(dir + "/mode-cells-0.h5",
+                 {track(
+                     0, 3.0, 1.0, 3.5, [](double c) { return testing::wiggle(c); }, 100)},
+                 {.expected_mode = "sideways"});
+  expect_error(dir + "/mode-cells-0.h5",
+               dir + "/mode-cells-0.h5: /cells expected_mode: 'sideways' is not a mode");
 }
 
 TEST(PlotStudy, DrawsFailureAgainstHaematocritFromSummaries) {

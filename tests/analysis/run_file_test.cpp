@@ -78,6 +78,17 @@ TEST(RunFile, CapillaryNumberIsOptional) {
   EXPECT_FALSE(read_run_file(path).capillary_number.has_value());
 }
 
+TEST(RunFile, ExpectedModeIsReadWhenTheSceneStatedIt) {
+  const std::string dir = testing::temp_dir("mode");
+  write_run_file(dir + "/none-cells-0.h5", {line(0, 1.0, 0.0)}, {});
+  EXPECT_FALSE(read_run_file(dir + "/none-cells-0.h5").expected_mode.has_value());
+  for (const auto mode : {TransportMode::kZigzag, TransportMode::kDisplacement}) {
+    const std::string path = dir + "/" + to_string(mode) + "-cells-0.h5";
+    write_run_file(path, {line(0, 1.0, 0.0)}, {.expected_mode = to_string(mode)});
+    EXPECT_EQ(read_run_file(path).expected_mode, std::optional(mode)) << path;
+  }
+}
+
 TEST(RunFile, MergesTheFilesOfOneRunByFirstCell) {
   const std::string dir = testing::temp_dir("merge");
   write_run_file(dir + "/run-cells-0.h5", {line(0, 1.0, 4.4), line(1, 5.0, 4.4)},
@@ -114,6 +125,13 @@ TEST(RunFile, RefusesFilesOfDifferentRunsOrRepeatedCells) {
               read_run({dir + "/run-cells-0.h5", dir + "/run-cells-2.h5"});
             }).find("cell 0 is also in"),
             std::string::npos);
+  // One process's file says zigzag, the other's nothing: not the files of one scene.
+  write_run_file(dir + "/run-cells-3.h5", {line(3, 1.0, 0.0)},
+                 {.first_cell = 3, .d = 4.4, .expected_mode = "zigzag"});
+  const std::string e = error_of([&] {
+    read_run({dir + "/run-cells-0.h5", dir + "/run-cells-3.h5"});
+  });
+  EXPECT_NE(e.find("expected_mode = zigzag but"), std::string::npos) << e;
 }
 
 TEST(RunFile, BadInputIsOneLineNamingTheFileAndWhatWasExpected) {
@@ -154,6 +172,16 @@ TEST(RunFile, BadInputIsOneLineNamingTheFileAndWhatWasExpected) {
     h.attribute("/cells", "frame", std::string("lab"));
   }
   expect_error(dir + "/frame-cells-0.h5", "expected 'device' (or 'box')");
+  // The scene's expected mode: a word that is not a mode, or not a string at all.
+  write_run_file(dir + "/mode-cells-0.h5", {line(0, 1.0, 0.0)}, {.expected_mode = "mixed"});
+  expect_error(dir + "/mode-cells-0.h5",
+               "/cells expected_mode: 'mixed' is not a mode: expected zigzag or displacement");
+  write_run_file(dir + "/mode-type-cells-0.h5", {line(0, 1.0, 0.0)}, {});
+  {
+    H5File h(dir + "/mode-type-cells-0.h5", H5File::Mode::kReadWrite);
+    h.attribute("/cells", "expected_mode", 1.0);
+  }
+  expect_error(dir + "/mode-type-cells-0.h5", "/cells attribute 'expected_mode': expected a");
 }
 
 }  // namespace

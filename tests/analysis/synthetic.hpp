@@ -48,6 +48,7 @@ struct FileFacts {
   std::string scene = "synthetic";
   double ca = 0.5;
   bool with_ca = true;
+  std::string expected_mode = "";  ///< the scene's [cells] expected_mode; "" = no attribute
 };
 
 /// Writes tracks (same sample count) as dld-membrane does (membrane/coupled_main.cpp).
@@ -72,6 +73,9 @@ inline void write_run_file(const std::string& path, const std::vector<CellTrack>
   h.attribute("/cells", "scene_name", f.scene);
   if (f.with_ca) {
     h.attribute("/cells", "capillary_number", f.ca);
+  }
+  if (!f.expected_mode.empty()) {
+    h.attribute("/cells", "expected_mode", f.expected_mode);
   }
 }
 

@@ -206,5 +206,24 @@ TEST(SceneKeys, PackedCellsKeysAreChecked) {
   EXPECT_NE(e.find("cells.count"), std::string::npos) << e;
 }
 
+TEST(SceneKeys, ExpectedModeIsOptionalAndChecked) {
+  const auto mode = [](const std::string& cells) {
+    return read_membrane_scene(parse_scene(std::string(kBase) + kGood + cells, "t.toml", false))
+        .expected_mode;
+  };
+  const std::string cell = "[[cells.cell]]\ncentre_um = [3.0, 3.0, 2.4]\n";
+  EXPECT_FALSE(mode(cell).has_value());
+  EXPECT_EQ(mode("[cells]\nexpected_mode = \"zigzag\"\n" + cell), TransportMode::kZigzag);
+  EXPECT_EQ(mode("[cells]\ncount = 3\nexpected_mode = \"displacement\"\n"),
+            TransportMode::kDisplacement);
+  // A bad value stops with one line naming file, line and key (line 26: kBase and kGood are 24
+  // lines, then [cells]).
+  const std::string e = scene_error(kGood + "[cells]\nexpected_mode = \"mixed\"\n" + cell);
+  EXPECT_NE(e.find("t.toml:26:"), std::string::npos) << e;
+  EXPECT_NE(e.find("cells.expected_mode"), std::string::npos) << e;
+  EXPECT_NE(e.find("mixed"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace dld::membrane
