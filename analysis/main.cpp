@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // dld-analyze: failure probabilities, modes and outlet counts of a run from its cells run files
-// (docs/analysis.md, SPEC section 7). Prints a table, writes CSVs and, through
-// analysis/plot_run.py, the trajectory and outlet plots.
+// or the run file dld-run merges them into (docs/analysis.md, SPEC section 7). Prints a table,
+// writes CSVs and, through analysis/plot_run.py, the trajectory and outlet plots.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -85,7 +85,9 @@ int plot(const Options& o, const Run& run, const std::vector<std::string>& csvs,
 int run(int argc, char** argv) {
   CLI::App app("dld-analyze: failure probabilities and outlet counts of a run (SPEC section 7)");
   Options o;
-  app.add_option("files", o.files, "cells run files <stem>-cells-K.h5 of one run");
+  app.add_option("files", o.files,
+                 "the run file <stem>.h5 of dld-run, or the cells run files <stem>-cells-K.h5 of "
+                 "one run");
   app.add_option("-o,--output-dir", o.out_dir, "directory for the CSVs and PNGs");
   app.add_option("--pillars", o.pillars, "evaluate at N pillars (columns) from each cell's start")
       ->check(CLI::Validator(
@@ -120,8 +122,8 @@ int run(int argc, char** argv) {
   }
   if (o.files.empty()) {
     std::fprintf(stderr,
-                 "dld-analyze: error: no run file given: expected FILE.h5... (the "
-                 "<stem>-cells-K.h5 files of one run)\n");
+                 "dld-analyze: error: no run file given: expected FILE.h5... (the run file "
+                 "<stem>.h5, or the <stem>-cells-K.h5 files of one run)\n");
     return 2;
   }
   try {

@@ -3,7 +3,8 @@
 """Plots one analysed run (called by dld-analyze): cell trajectories (y/lambda against x/lambda,
 with the array inclination d/lambda and the horizontal from the mean start) and the outlet
 histogram (SPEC section 7), correct outlets green, wrong ones red (grey: expected mode unknown).
-Reads the cells run files and the CSVs dld-analyze wrote."""
+Reads the cells run files (or the run file dld-run merges them into) and the CSVs dld-analyze
+wrote."""
 import argparse
 import csv
 import os
@@ -23,6 +24,13 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def cells_groups(f):
+    """/cells of a cells run file, else every /membrane-K/cells of dld-run's run file."""
+    if "cells" in f:
+        return [f["cells"]]
+    return [f[m]["cells"] for m in f if m.startswith("membrane-") and "cells" in f[m]]
+
+
 def trajectories(files):
     """(first_cell + k, x [um], y [um]) per cell of every run file."""
     out = []
@@ -32,10 +40,11 @@ def trajectories(files):
         except OSError as e:
             sys.exit(f"plot_run.py: error: {path}: cannot open HDF5 run file ({e})")
         with f:
-            rows = f["cells/samples"][...]
-            first = int(f["cells"].attrs["first_cell"])
-            for k in range(int(f["cells"].attrs["count"])):
-                out.append((first + k, rows[:, 1 + 4 * k], rows[:, 2 + 4 * k]))
+            for cells in cells_groups(f):
+                rows = cells["samples"][...]
+                first = int(cells.attrs["first_cell"])
+                for k in range(int(cells.attrs["count"])):
+                    out.append((first + k, rows[:, 1 + 4 * k], rows[:, 2 + 4 * k]))
     return sorted(out, key=lambda t: t[0])
 
 
@@ -100,7 +109,7 @@ def plot_outlets(outlets, summary, png):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("runs", nargs="+", help="cells run files <stem>-cells-K.h5")
+    ap.add_argument("runs", nargs="+", help="cells run files <stem>-cells-K.h5 or the run file")
     ap.add_argument("--cells", required=True)
     ap.add_argument("--summary", required=True)
     ap.add_argument("--outlets", required=True)

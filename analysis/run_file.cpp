@@ -25,60 +25,60 @@ std::string run_stem(const std::string& path) {
   return path.size() > 3 && path.ends_with(".h5") ? path.substr(0, path.size() - 3) : path;
 }
 
-Run read_run_file(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) {
-    throw InputError(fmt::format("{}: no such file (expected a dld-membrane run file)", path));
-  }
-  const H5File f(path, H5File::Mode::kRead);
+namespace {
+
+/// The cells of one membrane process: `group` is "/cells" in its part file, "/membrane-k/cells"
+/// in the run file dld-run merges.
+Run read_cells_group(const H5File& f, const std::string& path, const std::string& group) {
   Run r;
   r.stem = run_stem(path);
   r.files = {path};
-  auto number = [&](const char* name) { return f.read_attribute_number("/cells", name); };
-  if (!f.exists("/cells/samples")) {
+  auto number = [&](const char* name) { return f.read_attribute_number(group, name); };
+  if (!f.exists(group + "/samples")) {
     throw InputError(
-        fmt::format("{}: no dataset /cells/samples (is this a dld-membrane run file?)", path));
+        fmt::format("{}: no dataset {}/samples (is this a dld-membrane run file?)", path, group));
   }
   const auto count = number("count");
   const auto first = number("first_cell");
   if (count < 1 || first < 0 || count != std::floor(count) || first != std::floor(first)) {
     throw InputError(fmt::format(
-        "{}: /cells attributes count = {} and first_cell = {}: expected whole numbers, count >= 1",
-        path, count, first));
+        "{}: {} attributes count = {} and first_cell = {}: expected whole numbers, count >= 1",
+        path, group, count, first));
   }
   r.dt_s = number("dt_s");
   r.lambda_um = number("pillar_spacing_um");
   r.row_shift_um = number("row_shift_um");
   if (!(r.lambda_um > 0) || !(r.row_shift_um >= 0) || !(r.row_shift_um < r.lambda_um)) {
-    throw InputError(fmt::format(
-        "{}: /cells pillar_spacing_um = {}, row_shift_um = {}: expected 0 <= d < lambda", path,
-        r.lambda_um, r.row_shift_um));
+    throw InputError(
+        fmt::format("{}: {} pillar_spacing_um = {}, row_shift_um = {}: expected 0 <= d < lambda",
+                    path, group, r.lambda_um, r.row_shift_um));
   }
-  const auto frame = f.read_attribute_string("/cells", "frame");
+  const auto frame = f.read_attribute_string(group, "frame");
   if (frame != "device" && frame != "box") {
     throw InputError(
-        fmt::format("{}: /cells frame = '{}': expected 'device' (or 'box')", path, frame));
+        fmt::format("{}: {} frame = '{}': expected 'device' (or 'box')", path, group, frame));
   }
-  r.scene_name = f.read_attribute_string("/cells", "scene_name");
+  r.scene_name = f.read_attribute_string(group, "scene_name");
   try {
     r.capillary_number = number("capillary_number");
   } catch (const InputError&) {  // optional: scenes without a capillary number
   }
   // Optional too (scenes that leave it to the dilute-limit map), but a value that is there must be
   // a mode: a typo must not quietly hand the run to the map.
-  if (f.has_attribute("/cells", "expected_mode")) {
-    r.expected_mode = parse_expected_mode(f.read_attribute_string("/cells", "expected_mode"),
-                                          path + ": /cells expected_mode");
+  if (f.has_attribute(group, "expected_mode")) {
+    r.expected_mode = parse_expected_mode(f.read_attribute_string(group, "expected_mode"),
+                                          path + ": " + group + " expected_mode");
   }
 
   std::vector<std::uint64_t> dims;
-  const std::vector<double> rows = f.read("/cells/samples", &dims);
+  const std::vector<double> rows = f.read(group + "/samples", &dims);
   const auto cells = static_cast<std::size_t>(count);
   const std::size_t width = 1 + 4 * cells;
   if (dims.size() != 2 || dims[1] != width || dims[0] < 1) {
     throw InputError(fmt::format(
-        "{}: /cells/samples has shape ({}): expected (rows >= 1, {}) for {} cells (step, then x y "
-        "z volume per cell)",
-        path, fmt::join(dims, ", "), width, cells));
+        "{}: {}/samples has shape ({}): expected (rows >= 1, {}) for {} cells (step, then x y z "
+        "volume per cell)",
+        path, group, fmt::join(dims, ", "), width, cells));
   }
   for (std::size_t k = 0; k < cells; ++k) {
     CellTrack t;
@@ -89,8 +89,8 @@ Run read_run_file(const std::string& path) {
       t.position.push_back({v[1 + 4 * k], v[2 + 4 * k], v[3 + 4 * k]});
       t.volume.push_back(v[4 + 4 * k]);
       if (!std::isfinite(v[1 + 4 * k]) || !std::isfinite(v[2 + 4 * k])) {
-        throw InputError(fmt::format("{}: /cells/samples row {}: cell {} has a non-finite centroid",
-                                     path, i, t.id));
+        throw InputError(fmt::format("{}: {}/samples row {}: cell {} has a non-finite centroid",
+                                     path, group, i, t.id));
       }
     }
     if (frame == "box") {  // folded into the unit cell: back to device coordinates (SPEC 7)
@@ -100,6 +100,60 @@ Run read_run_file(const std::string& path) {
     r.cells.push_back(std::move(t));
   }
   return r;
+}
+
+/// "membrane-3" -> 3; -1 for any other name.
+int membrane_index(const std::string& name) {
+  static const std::regex pattern(R"(membrane-([0-9]+))");
+  std::smatch m;
+  return std::regex_match(name, m, pattern) ? std::stoi(m[1].str()) : -1;
+}
+
+/// The run file dld-run merges: /membrane-k/cells for k < membrane_processes (the root
+/// attribute), merged as their part files would be.
+Run read_merged_file(const H5File& f, const std::string& path) {
+  std::vector<std::string> groups;
+  for (const std::string& m : f.members("/")) {
+    if (membrane_index(m) >= 0 && f.exists("/" + m + "/cells")) {
+      groups.push_back("/" + m + "/cells");
+    }
+  }
+  if (groups.empty()) {
+    throw InputError(fmt::format(
+        "{}: no dataset /cells/samples and no /membrane-K/cells group: expected a dld-membrane "
+        "run file <stem>-cells-K.h5 or the run file <stem>.h5 of dld-run --membrane cells",
+        path));
+  }
+  // A group lost on the way (a file put together by hand) would silently drop cells.
+  if (f.has_attribute("/", "membrane_processes")) {
+    const double expected = f.read_attribute_number("/", "membrane_processes");
+    if (static_cast<double>(groups.size()) != expected) {
+      throw InputError(
+          fmt::format("{}: {} /membrane-K/cells groups: expected {} (attribute "
+                      "membrane_processes)",
+                      path, groups.size(), expected));
+    }
+  }
+  std::vector<Run> parts;
+  for (const std::string& g : groups) {
+    parts.push_back(read_cells_group(f, path, g));
+    // merge_runs names the parts by their files: here the group says which part disagrees.
+    parts.back().files = {path + " " + g};
+  }
+  Run r = merge_runs(std::move(parts));
+  r.files = {path};
+  return r;
+}
+
+}  // namespace
+
+Run read_run_file(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path)) {
+    throw InputError(fmt::format(
+        "{}: no such file (expected a dld-membrane run file or the run file of dld-run)", path));
+  }
+  const H5File f(path, H5File::Mode::kRead);
+  return f.exists("/cells") ? read_cells_group(f, path, "/cells") : read_merged_file(f, path);
 }
 
 Run merge_runs(std::vector<Run> parts) {

@@ -2,8 +2,10 @@
 // The cells run files written by dld-membrane (`<stem>-cells-K.h5`, one per membrane process):
 // /cells/samples rows = step, then per cell centroid x y z [um, device frame, unwrapped] and
 // volume [um^3]; attributes on /cells name the run's geometry. The files of one run are merged by
-// their first_cell attribute. A file with frame = "box" (centroids folded into the unit cell) is
-// unwrapped into device coordinates on reading.
+// their first_cell attribute. The run file `dld-run` writes (`<stem>.h5`) holds each of them as
+// /membrane-k (/membrane-k/cells, ...): one such file stands for all of them. A file with
+// frame = "box" (centroids folded into the unit cell) is unwrapped into device coordinates on
+// reading.
 #pragma once
 #include <array>
 #include <optional>
@@ -39,8 +41,9 @@ struct Run {
 /// `dir/name-cells-3.h5` -> `dir/name`; a path without that ending loses only ".h5".
 std::string run_stem(const std::string& path);
 
-/// Reads one run file; any missing or malformed part is an InputError naming the file and what
-/// was expected.
+/// Reads one cells run file, or every /membrane-k/cells group of the run file dld-run merges (all
+/// of them must be there: root attribute membrane_processes); any missing or malformed part is an
+/// InputError naming the file and what was expected.
 Run read_run_file(const std::string& path);
 
 /// Merges the files of one run (same stem, geometry and scene; cells must not repeat).

@@ -202,6 +202,54 @@ void H5File::flush() {
   H5Fflush(id_, H5F_SCOPE_GLOBAL);
 }
 
+void H5File::close() {
+  if (id_ < 0) return;
+  const hid_t id = id_;
+  id_ = -1;
+  check(H5Fclose(id), path_, "closing the file");
+}
+
+void H5File::copy_from(const H5File& source, const std::string& object, const std::string& name) {
+  make_parents(name);
+  check(H5Ocopy(source.id_, object.c_str(), id_, name.c_str(), H5P_DEFAULT, H5P_DEFAULT), path_,
+        fmt::format("copying {} of {} to {}", object, source.path_, name));
+}
+
+std::vector<std::string> H5File::members(const std::string& group) const {
+  Id g{checked_id(H5Gopen2(id_, group.c_str(), H5P_DEFAULT), path_, "opening group " + group),
+       H5Gclose};
+  H5G_info_t info;
+  check(H5Gget_info(g.id, &info), path_, "listing " + group);
+  std::vector<std::string> out;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t n =
+        H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (n < 0) throw InputError(fmt::format("{}: HDF5 error while listing {}", path_, group));
+    std::string name(static_cast<std::size_t>(n) + 1, '\0');
+    H5Lget_name_by_idx(g.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(),
+                       H5P_DEFAULT);
+    name.resize(static_cast<std::size_t>(n));
+    out.push_back(std::move(name));
+  }
+  return out;
+}
+
+std::vector<std::string> H5File::datasets(const std::string& group) const {
+  std::vector<std::string> out;
+  const std::string prefix = group == "/" ? "/" : group + "/";
+  for (const std::string& m : members(group)) {
+    // The object's kind through its handle: H5Oget_info changed signature between HDF5 versions.
+    Id obj{open_object(id_, path_, prefix + m), H5Oclose};
+    const H5I_type_t kind = H5Iget_type(obj.id);
+    if (kind == H5I_DATASET) {
+      out.push_back(m);
+    } else if (kind == H5I_GROUP) {
+      for (const std::string& d : datasets(prefix + m)) out.push_back(m + "/" + d);
+    }
+  }
+  return out;
+}
+
 std::vector<double> H5File::read(const std::string& name, std::vector<std::uint64_t>* dims) const {
   if (!exists(name)) throw InputError(fmt::format("{}: no dataset '{}'", path_, name));
   Id set{checked_id(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), path_, "opening " + name), H5Dclose};

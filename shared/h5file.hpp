@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Thin RAII wrapper over the HDF5 C API: the few operations the run files need (datasets of
-// doubles, string/number attributes, extendible time-series tables), groups made on demand.
+// doubles, string/number attributes, extendible time-series tables, copying objects between files
+// and listing them), groups made on demand.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -38,8 +39,20 @@ class H5File {
   void append_row(const std::string& name, const std::vector<double>& row,
                   const std::vector<std::string>& columns = {});
   void flush();
+  /// Closes the file now and reports a failure to write it out (the destructor cannot): a file
+  /// that is renamed into place afterwards must be complete.
+  void close();
+
+  /// Copies `object` of `source` ("/" is the whole file: its root group and root attributes) to
+  /// `name` in this file, with everything below it and its attributes (H5Ocopy: the copy needs
+  /// nothing of the source afterwards, unlike an external link).
+  void copy_from(const H5File& source, const std::string& object, const std::string& name);
 
   bool exists(const std::string& name) const;
+  /// Names of the members of a group ("/" is the file), in name order.
+  std::vector<std::string> members(const std::string& group) const;
+  /// Paths of every dataset below a group, relative to it ("cells/samples"), in name order.
+  std::vector<std::string> datasets(const std::string& group = "/") const;
   /// Reads a dataset of doubles (any float type is converted); dims returned through `dims`.
   std::vector<double> read(const std::string& name,
                            std::vector<std::uint64_t>* dims = nullptr) const;

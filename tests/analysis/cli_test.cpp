@@ -101,6 +101,41 @@ TEST(DldAnalyze, WritesTablesAndPlotsForARunOfTwoFiles) {
   EXPECT_GT(fs::file_size(dir + "/out/run-outlets.png"), 1000u);
 }
 
+TEST(DldAnalyze, TheMergedRunFileGivesTheTablesOfItsParts) {
+  const std::string dir = testing::temp_dir("cli-merged");
+  const double d = 4.4;
+  write_run_file(dir + "/run-cells-0.h5",
+                 {track(
+                     0, 3.0, 1.0, 12.5, [d](double c) { return d * c; }, 300)},
+                 {.first_cell = 0, .d = d});
+  write_run_file(dir + "/run-cells-1.h5",
+                 {track(1, 4.0, 12.0, 12.5, testing::steps, 300),
+                  track(
+                      2, 6.0, 20.0, 12.5, [](double) { return 0.0; }, 300)},
+                 {.first_cell = 1, .d = d});
+  fs::create_directories(dir + "/merged");
+  testing::write_merged_run_file(dir + "/merged/run.h5",
+                                 {dir + "/run-cells-0.h5", dir + "/run-cells-1.h5"}, 2);
+  const Result parts = run(two_file_command(dir, false), dir);
+  ASSERT_EQ(parts.status, 0) << parts.output;
+  // Plots too when they can be drawn: plot_run.py reads the cells from the run file's groups.
+  const bool plots = have_matplotlib();
+  const Result merged = run(std::string(DLD_ANALYZE_EXE) + " " + dir +
+                                "/merged/run.h5 --pillars 10 --expected-mode displacement -o " +
+                                dir + "/merged" + (plots ? "" : " --no-plots"),
+                            dir);
+  ASSERT_EQ(merged.status, 0) << merged.output;
+  EXPECT_EQ(lines(dir + "/merged/run-cells.csv").size(), 4u);  // header + the 3 cells
+  for (const char* csv : {"/run-summary.csv", "/run-cells.csv", "/run-outlets.csv"}) {
+    const auto a = lines(dir + "/out" + csv);
+    EXPECT_GE(a.size(), 2u) << csv;
+    EXPECT_EQ(a, lines(dir + "/merged" + csv)) << csv;
+  }
+  if (plots) {
+    EXPECT_GT(fs::file_size(dir + "/merged/run-trajectories.png"), 1000u);
+  }
+}
+
 /// Column `name` of the one data row of a summary CSV (fields may be quoted, with commas inside).
 std::string summary_field(const std::string& path, const std::string& name) {
   const auto split = [](const std::string& line) {

@@ -134,6 +134,62 @@ TEST(RunFile, RefusesFilesOfDifferentRunsOrRepeatedCells) {
   EXPECT_NE(e.find("expected_mode = zigzag but"), std::string::npos) << e;
 }
 
+TEST(RunFile, TheMergedRunFileReadsAsItsParts) {
+  const std::string dir = testing::temp_dir("merged");
+  write_run_file(dir + "/run-cells-0.h5", {line(0, 1.0, 4.4), line(1, 5.0, 4.4)},
+                 {.first_cell = 0});
+  write_run_file(dir + "/run-cells-1.h5", {line(2, 9.0, 0.0)}, {.first_cell = 2});
+  testing::write_merged_run_file(dir + "/run.h5",
+                                 {dir + "/run-cells-0.h5", dir + "/run-cells-1.h5"}, 2);
+  const analysis::Run parts = read_run({dir + "/run-cells-0.h5", dir + "/run-cells-1.h5"});
+  const analysis::Run merged = read_run({dir + "/run.h5"});
+  EXPECT_EQ(merged.stem, parts.stem);  // the outputs get the same names
+  EXPECT_EQ(merged.files, std::vector<std::string>{dir + "/run.h5"});
+  EXPECT_EQ(merged.scene_name, parts.scene_name);
+  EXPECT_EQ(merged.row_shift_um, parts.row_shift_um);
+  EXPECT_EQ(merged.capillary_number, parts.capillary_number);
+  ASSERT_EQ(merged.cells.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(merged.cells[k].id, parts.cells[k].id);
+    EXPECT_EQ(merged.cells[k].position, parts.cells[k].position) << k;
+    EXPECT_EQ(merged.cells[k].volume, parts.cells[k].volume) << k;
+  }
+  // The run file and one of its parts hold the same cells: not two parts of one run.
+  EXPECT_NE(error_of([&] {
+              read_run({dir + "/run.h5", dir + "/run-cells-1.h5"});
+            }).find("cell 2 is also in"),
+            std::string::npos);
+}
+
+TEST(RunFile, AMergedRunFileMissingAGroupOrWithClashingGroupsIsRefused) {
+  const std::string dir = testing::temp_dir("merged-bad");
+  write_run_file(dir + "/run-cells-0.h5", {line(0, 1.0, 0.0)}, {.first_cell = 0});
+  write_run_file(dir + "/run-cells-1.h5", {line(1, 1.0, 0.0)}, {.first_cell = 1, .d = 6.0});
+  const auto expect_error = [](const std::string& path, const std::string& words) {
+    const std::string e = error_of([&] { read_run_file(path); });
+    EXPECT_NE(e.find(path), std::string::npos) << e;
+    EXPECT_NE(e.find(words), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  };
+  // Two membrane processes stated, one group there: a cell would silently go missing.
+  testing::write_merged_run_file(dir + "/short.h5", {dir + "/run-cells-0.h5"}, 2);
+  expect_error(dir + "/short.h5", "1 /membrane-K/cells groups: expected 2");
+  // Without the attribute the groups present are the run.
+  testing::write_merged_run_file(dir + "/unstated.h5", {dir + "/run-cells-0.h5"}, -1);
+  EXPECT_EQ(read_run_file(dir + "/unstated.h5").cells.size(), 1u);
+  // Groups of different runs: the message names the group that disagrees.
+  testing::write_merged_run_file(dir + "/clash.h5",
+                                 {dir + "/run-cells-0.h5", dir + "/run-cells-1.h5"}, 2);
+  expect_error(dir + "/clash.h5", "/membrane-1/cells: row_shift_um = 6 but");
+  // A run file of dld-run --membrane tracers holds no cells.
+  {
+    H5File h(dir + "/tracers.h5", H5File::Mode::kCreate);
+    h.write("/membrane-0/tracers/samples", std::vector<double>{0, 1, 2, 3});
+    h.write("/fluid/timeseries", std::vector<double>{0, 1});
+  }
+  expect_error(dir + "/tracers.h5", "no /membrane-K/cells group");
+}
+
 TEST(RunFile, BadInputIsOneLineNamingTheFileAndWhatWasExpected) {
   const std::string dir = testing::temp_dir("bad");
   const auto expect_error = [](const std::string& path, const std::string& words) {

@@ -79,6 +79,20 @@ inline void write_run_file(const std::string& path, const std::vector<CellTrack>
   }
 }
 
+/// The run file dld-run writes from part files (coupler/launcher/run_file_merge, whose own test
+/// checks that layout against the parts): part k's root as /membrane-k, and the root attribute
+/// membrane_processes (`stated`; -1 leaves it out).
+inline void write_merged_run_file(const std::string& path, const std::vector<std::string>& parts,
+                                  std::int64_t stated) {
+  H5File out(path, H5File::Mode::kCreate);
+  for (std::size_t k = 0; k < parts.size(); ++k) {
+    out.copy_from(H5File(parts[k], H5File::Mode::kRead), "/", "/membrane-" + std::to_string(k));
+  }
+  if (stated >= 0) {
+    out.attribute("/", "membrane_processes", stated);
+  }
+}
+
 /// The InputError message of f(), or "" if it does not throw one.
 inline std::string error_of(const std::function<void()>& f) {
   try {
