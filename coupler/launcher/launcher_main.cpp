@@ -2,7 +2,9 @@
 // dld-run: validates a scene, starts dld-fluid and the membrane program(s) connected over ipc,
 // shows their progress, and stops everything cleanly (Ctrl-C: the fluid is asked to end the run
 // after the current step and tells every membrane program; a child that fails stops the others
-// through the coupler's timeout, and the launcher reports which one failed and how).
+// through the coupler's timeout, and the launcher reports which one failed and how). When they
+// have ended, however they ended, it copies their part files into the run file (the scene's
+// [output] file; coupler/launcher/run_file_merge).
 //
 // Membrane programs take: SCENE --connect ENDPOINT --peer k --peers K [program options].
 #include <fmt/format.h>
@@ -16,6 +18,7 @@
 #include <thread>
 
 #include "coupler/launcher/process.hpp"
+#include "coupler/launcher/run_file_merge.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
 #include "shared/scene.hpp"
@@ -74,6 +77,19 @@ std::vector<std::string> common_checkpoint(
     found += fmt::format(" {} (step {})", path, checkpoint_step(path, group));
   }
   throw dld::InputError("--resume: no checkpoint step shared by every program:" + found);
+}
+
+/// The run file from the part files; false (and one line naming the part) if a part is missing or
+/// unreadable. Never throws: the run's own exit status must still reach the caller.
+bool write_run_file(const std::vector<dld::coupler::RunPart>& parts, const std::string& merged) {
+  try {
+    dld::coupler::merge_run_file(parts, merged);
+    return true;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "dld-run: run file {} not written: {} (the part files stay)\n", merged,
+               e.what());
+    return false;
+  }
 }
 
 }  // namespace
@@ -210,6 +226,11 @@ int main(int argc, char** argv) {
       return 0;
     }
 
+    // The run file describes this run or does not exist: one left by an earlier run of the scene
+    // would otherwise stand for this one if this one's parts cannot be merged.
+    const std::string merged = out.string();
+    std::error_code ignored;  // none there, or one this run cannot remove: merging will say so
+    fs::remove(merged, ignored);
     signal(SIGINT, on_sigint);
     std::vector<dld::coupler::Child> children;
     children.push_back(dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log"));
@@ -266,12 +287,20 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
     fs::remove_all(sock_dir);
+    // After a failure too: what the programs wrote up to it is what there is to look at.
+    const bool have_run_file =
+        write_run_file(dld::coupler::run_parts(stem, membrane, peers), merged);
     if (failed) {
+      if (have_run_file) {
+        fmt::print(stderr,
+                   "dld-run: run file {} holds what the programs wrote before the failure\n",
+                   merged);
+      }
       return failed;
     }
-    fmt::print("dld-run: done in {:.1f} s; outputs {}-*.h5, logs {}-*.log\n",
+    fmt::print("dld-run: done in {:.1f} s; run file {}, parts {}-*.h5, logs {}-*.log\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-               stem, stem);
+               have_run_file ? merged : "not written", stem, stem);
     return g_interrupted ? 130 : 0;
   } catch (const dld::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
