@@ -65,14 +65,20 @@ struct Running {
   std::chrono::steady_clock::time_point start;
 };
 
-/// dld-analyze on a finished run (its CSVs and plots go into the run's directory).
+/// dld-analyze on a finished run (its CSVs and plots go into the run's directory): on the run file
+/// dld-run wrote, else (dld-run could not merge; it said why in the run's log) on the part files,
+/// which give the same results.
 int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::string& exe) {
   std::vector<std::string> argv{exe};
-  for (const auto& e : fs::directory_iterator(run.dir)) {
-    const std::string f = e.path().filename().string();
-    if (f.rfind("run-cells-", 0) == 0 && f.size() > 3 && f.substr(f.size() - 3) == ".h5" &&
-        f.find(".ckpt") == std::string::npos) {
-      argv.push_back(e.path().string());
+  if (fs::is_regular_file(run.dir / "run.h5")) {
+    argv.push_back((run.dir / "run.h5").string());
+  } else {
+    for (const auto& e : fs::directory_iterator(run.dir)) {
+      const std::string f = e.path().filename().string();
+      if (f.rfind("run-cells-", 0) == 0 && f.size() > 3 && f.substr(f.size() - 3) == ".h5" &&
+          f.find(".ckpt") == std::string::npos) {
+        argv.push_back(e.path().string());
+      }
     }
   }
   argv.insert(argv.end(), {"--pillars", std::to_string(study.pillars), "-o", run.dir.string()});
