@@ -174,6 +174,22 @@ TEST_F(TracersCoupled, LauncherRunsTwoMembraneProcessesAndStopsCleanlyOnCtrlC) {
   };
   EXPECT_EQ(steps_of(l0), steps_of(l1)) << l0 << l1;
   EXPECT_NE(steps_of(l0), "?") << l0;
+  // After Ctrl-C too, the run file holds every part: the tracers of both processes and the
+  // fluid's time series, equal to the part files.
+  EXPECT_NE(slurp(run.log).find("run file " + (dir_ / "run.h5").string()), std::string::npos)
+      << slurp(run.log);
+  dld::H5File merged((dir_ / "run.h5").string(), dld::H5File::Mode::kRead);
+  EXPECT_EQ(merged.read_attribute_number("/", "membrane_processes"), 2.0);
+  for (const auto& [part, name] : std::vector<std::pair<std::string, std::string>>{
+           {"run-fluid.h5", "/fluid/timeseries"},
+           {"run-tracers-0.h5", "/membrane-0/tracers/samples"},
+           {"run-tracers-1.h5", "/membrane-1/tracers/samples"}}) {
+    dld::H5File f((dir_ / part).string(), dld::H5File::Mode::kRead);
+    const std::string inside = name.substr(name.find('/', 1));
+    const auto a = f.read(inside);
+    EXPECT_FALSE(a.empty()) << part << inside;
+    EXPECT_EQ(a, merged.read(name)) << name;
+  }
 }
 
 TEST_F(TracersCoupled, OneRedBloodCellMovesWithTheFlowAndKeepsItsVolume) {
