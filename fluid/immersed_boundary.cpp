@@ -21,7 +21,16 @@ IbKernel ib_kernel_from_name(const std::string& name) {
 }
 
 ImmersedBoundary::ImmersedBoundary(const Lattice& lattice, IbKernel kernel)
-    : lattice_(lattice), kernel_(kernel) {}
+    : lattice_(lattice),
+      kernel_(kernel),
+      column_solid_(static_cast<std::size_t>(lattice.px()) * lattice.py(), 0) {
+  const std::size_t plane = column_solid_.size();
+  const std::uint8_t* solid = lattice.solid_mask().data();
+  for (int k = 0; k < lattice.nz(); ++k) {
+    const std::uint8_t* layer = solid + lattice.index(-1, -1, k);
+    for (std::size_t c = 0; c < plane; ++c) column_solid_[c] |= layer[c];
+  }
+}
 
 namespace {
 int floor_div(int a, int n) {
@@ -60,9 +69,14 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
     wz[nzk++] = w;
   }
   const std::uint8_t* solid = lattice_.solid_mask().data();
+  const std::size_t px = static_cast<std::size_t>(lattice_.px());
+  std::size_t zoff[4];  // padded index of (-1, -1, k) for the stencil's z layers
+  for (int q = 0; q < nzk; ++q) zoff[q] = lattice_.index(-1, -1, kz[q]);
   // y weights depend on the column's box only (shifted frame): compute them once per box.
   int cached_box = 2, j0 = 0, nyj = 0;
   double wy[4];
+  std::size_t row[4];  // padded offset of the stencil's y rows within a z layer, (jw + 1) * px
+  int count = 0;
   for (int i = i0; i <= i1; ++i) {
     const double wx = phi(kernel_, i + 0.5 - X);
     if (wx == 0.0) continue;
@@ -73,26 +87,43 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
       j0 = static_cast<int>(std::ceil(Yb - 0.5 - h));
       const int j1 = static_cast<int>(std::floor(Yb - 0.5 + h));
       nyj = std::min(4, j1 - j0 + 1);
-      for (int q = 0; q < nyj; ++q) wy[q] = phi(kernel_, j0 + q + 0.5 - Yb);
+      for (int q = 0; q < nyj; ++q) {
+        wy[q] = phi(kernel_, j0 + q + 0.5 - Yb);
+        // y is periodic: wrap any number of boxes (a marker's y is not folded into [0, ny)).
+        const int jw = ((j0 + q) % ny + ny) % ny;
+        row[q] = static_cast<std::size_t>(jw + 1) * px;
+      }
       cached_box = box;
     }
     for (int qy = 0; qy < nyj; ++qy) {
       const double wxy = wx * wy[qy];
       if (wxy == 0.0) continue;
-      const int j = j0 + qy;
-      const int jw = j < 0 ? j + ny : (j >= ny ? j - ny : j);
-      for (int q = 0; q < nzk; ++q) {
-        const std::size_t node = lattice_.index(iw, jw, kz[q]);
-        if (solid[node]) continue;
-        const double w = wxy * wz[q];
-        assert(s.count < IbStencil::kMax);
-        s.node[s.count] = node;
-        s.weight[s.count] = w;
-        ++s.count;
-        total += w;
+      // Offset of the column (iw, jw) within a z layer; the same order and arithmetic as a
+      // node-by-node walk, only the index is an addition and fluid columns skip the solid check.
+      const std::size_t column = row[qy] + static_cast<std::size_t>(iw + 1);
+      assert(count + nzk <= IbStencil::kMax);
+      if (!column_solid_[column]) {
+        for (int q = 0; q < nzk; ++q) {
+          const double w = wxy * wz[q];
+          s.node[count + q] = zoff[q] + column;
+          s.weight[count + q] = w;
+          total += w;
+        }
+        count += nzk;
+      } else {
+        for (int q = 0; q < nzk; ++q) {
+          const std::size_t node = zoff[q] + column;
+          if (solid[node]) continue;
+          const double w = wxy * wz[q];
+          s.node[count] = node;
+          s.weight[count] = w;
+          ++count;
+          total += w;
+        }
       }
     }
   }
+  s.count = count;
   if (total <= 0.0) return false;
   for (int n = 0; n < s.count; ++n) s.weight[n] /= total;
   return true;

@@ -13,6 +13,7 @@
 #pragma once
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -49,6 +50,9 @@ class ImmersedBoundary {
  private:
   const Lattice& lattice_;
   IbKernel kernel_;
+  /// Per (i, j) column of the padded x-y plane (index (j + 1) * px + i + 1): 1 if any node of the
+  /// column is solid, so stencil() checks single nodes only in columns that touch a solid.
+  std::vector<std::uint8_t> column_solid_;
   mutable std::vector<double> scratch_;  ///< per-thread force fields of spread()
 };
 

@@ -159,6 +159,26 @@ TEST(ImmersedBoundary, MarkerFoldedFromAnotherBoxSeesTheSameNodes) {
   }
 }
 
+TEST(ImmersedBoundary, MarkerSeveralBoxesAwayInYSeesTheSameNodes) {
+  // y is periodic: a marker given two or three boxes up or down (as an unwrapped membrane can be)
+  // must touch the nodes of its image in the box, not nodes of another z layer.
+  const Lattice L(test_domain(3.4));
+  const ImmersedBoundary ib(L, IbKernel::kPeskin4);
+  const double p[3] = {5.3, 0.6, 2.2};
+  IbStencil a;
+  ASSERT_TRUE(ib.stencil(p, a));
+  for (double boxes : {-3.0, -2.0, 2.0, 3.0}) {
+    IbStencil b;
+    const double q[3] = {p[0], p[1] + boxes * 20.0, p[2]};
+    ASSERT_TRUE(ib.stencil(q, b));
+    ASSERT_EQ(a.count, b.count) << boxes;
+    for (int i = 0; i < a.count; ++i) {
+      EXPECT_EQ(a.node[i], b.node[i]) << boxes;
+      EXPECT_NEAR(a.weight[i], b.weight[i], 1e-14) << boxes;
+    }
+  }
+}
+
 TEST(ImmersedBoundary, SpreadAndInterpolateAreAdjoint) {
   // sum_m U_m . F_m = sum_nodes u . f: the power the markers put in is the power the fluid gets.
   const Lattice L(test_domain(2.0));
