@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "fluid/viscosity_contrast.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -92,19 +94,37 @@ void ViscosityContrast::update(std::span<const double> positions, double* tau) {
     throw std::invalid_argument("viscosity contrast: " + std::to_string(positions.size() / 3) +
                                 " markers, the cells have " + std::to_string(total_nodes));
   }
-  for (std::size_t c = 0; c < cell_nodes_.size(); ++c) {
-    rasterise_cell(positions.data() + 3 * first_node_[c], c);
-    fill_cell();
+  // Cells are independent and never share a node: each thread rasterises and marks whole cells.
+  const int threads = omp_get_max_threads();
+  if (work_.size() != static_cast<std::size_t>(threads)) {
+    work_.resize(static_cast<std::size_t>(threads));
   }
-  for (std::size_t n : inside_) {
-    tau[n] = tau_in_;
+  const auto cells = static_cast<std::int64_t>(cell_nodes_.size());
+#pragma omp parallel num_threads(threads)
+  {
+    Workspace& w = work_[static_cast<std::size_t>(omp_get_thread_num())];
+    w.inside.clear();
+    w.unpaired = 0;
+#pragma omp for schedule(static)
+    for (std::int64_t c = 0; c < cells; ++c) {
+      const auto cell = static_cast<std::size_t>(c);
+      rasterise_cell(positions.data() + 3 * first_node_[cell], cell, w);
+      fill_cell(w);
+    }
+    for (std::size_t n : w.inside) {
+      tau[n] = tau_in_;
+    }
+  }
+  for (const Workspace& w : work_) {
+    inside_.insert(inside_.end(), w.inside.begin(), w.inside.end());
+    unpaired_ += w.unpaired;
   }
 }
 
 // Folds the cell into the box as one piece (by its mean x, so it is never torn apart), then
 // rasterises each triangle in every box frame its x extent reaches: columns beyond x = nx belong
 // to the next box, whose frame is lower by the shift (as in ImmersedBoundary::stencil).
-void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
+void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Workspace& w) const {
   const Domain& d = lattice_.domain();
   const std::size_t n = cell_nodes_[cell];
   double mean_x = 0;
@@ -112,17 +132,17 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
     mean_x += x[3 * m];
   }
   const double wraps = std::floor(mean_x / static_cast<double>(n) / d.nx);
-  folded_.resize(3 * n);
+  w.folded.resize(3 * n);
   for (std::size_t m = 0; m < n; ++m) {
-    folded_[3 * m] = x[3 * m] - wraps * d.nx;
-    folded_[3 * m + 1] = x[3 * m + 1] - wraps * d.shift;
-    folded_[3 * m + 2] = x[3 * m + 2];
+    w.folded[3 * m] = x[3 * m] - wraps * d.nx;
+    w.folded[3 * m + 1] = x[3 * m + 1] - wraps * d.shift;
+    w.folded[3 * m + 2] = x[3 * m + 2];
   }
-  crossings_.clear();
+  w.crossings.clear();
   const std::uint32_t* tri = faces_.data() + 3 * first_face_[cell];
   for (std::size_t f = 0; f < cell_faces_[cell]; ++f, tri += 3) {
-    const double* v[3] = {&folded_[3 * std::size_t{tri[0]}], &folded_[3 * std::size_t{tri[1]}],
-                          &folded_[3 * std::size_t{tri[2]}]};
+    const double* v[3] = {&w.folded[3 * std::size_t{tri[0]}], &w.folded[3 * std::size_t{tri[1]}],
+                          &w.folded[3 * std::size_t{tri[2]}]};
     const double xmin = std::min({v[0][0], v[1][0], v[2][0]});
     const double xmax = std::max({v[0][0], v[1][0], v[2][0]});
     for (int box = floor_div(static_cast<int>(std::floor(xmin)), d.nx);
@@ -161,7 +181,7 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
           }
           const double zc = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / (e0 + e1 + e2);
           const int jw = ((j % d.ny) + d.ny) % d.ny;
-          crossings_.push_back({static_cast<std::uint64_t>(jw) * d.nx + i, zc});
+          w.crossings.push_back({static_cast<std::uint64_t>(jw) * d.nx + i, zc});
         }
       }
     }
@@ -171,26 +191,26 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell) {
 // Sorts the crossings by column and height and marks the nodes between the 1st and 2nd, 3rd and
 // 4th, ... crossing of each column. z is unwrapped, so a cell across a periodic z face still pairs
 // up; its nodes are wrapped when marked.
-void ViscosityContrast::fill_cell() {
+void ViscosityContrast::fill_cell(Workspace& w) const {
   const Domain& d = lattice_.domain();
   const std::uint8_t* solid = lattice_.solid_mask().data();
-  std::sort(crossings_.begin(), crossings_.end(), [](const Crossing& a, const Crossing& b) {
+  std::sort(w.crossings.begin(), w.crossings.end(), [](const Crossing& a, const Crossing& b) {
     return a.column != b.column ? a.column < b.column : a.z < b.z;
   });
   std::size_t a = 0;
-  while (a < crossings_.size()) {
+  while (a < w.crossings.size()) {
     std::size_t b = a;
-    while (b < crossings_.size() && crossings_[b].column == crossings_[a].column) {
+    while (b < w.crossings.size() && w.crossings[b].column == w.crossings[a].column) {
       ++b;
     }
     if ((b - a) % 2 != 0) {
-      ++unpaired_;
+      ++w.unpaired;
     }
-    const int i = static_cast<int>(crossings_[a].column % d.nx);
-    const int j = static_cast<int>(crossings_[a].column / d.nx);
+    const int i = static_cast<int>(w.crossings[a].column % d.nx);
+    const int j = static_cast<int>(w.crossings[a].column / d.nx);
     for (std::size_t q = a; q + 1 < b; q += 2) {
-      const int k0 = static_cast<int>(std::ceil(crossings_[q].z - 0.5));
-      const int k1 = static_cast<int>(std::floor(crossings_[q + 1].z - 0.5));
+      const int k0 = static_cast<int>(std::ceil(w.crossings[q].z - 0.5));
+      const int k1 = static_cast<int>(std::floor(w.crossings[q + 1].z - 0.5));
       for (int k = k0; k <= k1; ++k) {
         int kw = k;
         if (d.walls_z) {
@@ -202,7 +222,7 @@ void ViscosityContrast::fill_cell() {
         }
         const std::size_t node = lattice_.index(i, j, kw);
         if (!solid[node]) {
-          inside_.push_back(node);
+          w.inside.push_back(node);
         }
       }
     }

@@ -49,15 +49,21 @@ class ViscosityContrast {
     std::uint64_t column;  ///< (wrapped j) * nx + i
     double z;
   };
-  void rasterise_cell(const double* x, std::size_t cell);
-  void fill_cell();
+  /// One thread's buffers: cells are independent, so each thread takes whole cells.
+  struct Workspace {
+    std::vector<double> folded;       ///< one cell's markers folded into the box frame
+    std::vector<Crossing> crossings;  ///< one cell's crossings
+    std::vector<std::size_t> inside;  ///< nodes inside this thread's cells
+    std::size_t unpaired = 0;
+  };
+  void rasterise_cell(const double* x, std::size_t cell, Workspace& w) const;
+  void fill_cell(Workspace& w) const;
 
   const Lattice& lattice_;
   double tau_out_, tau_in_;
   std::vector<std::uint32_t> cell_nodes_, cell_faces_, faces_;
   std::vector<std::size_t> first_node_, first_face_;
-  std::vector<double> folded_;       ///< one cell's markers folded into the box frame
-  std::vector<Crossing> crossings_;  ///< one cell's crossings
+  std::vector<Workspace> work_;      ///< one per OpenMP thread
   std::vector<std::size_t> inside_;  ///< nodes currently at tau_in
   std::size_t unpaired_ = 0;
 };

@@ -12,6 +12,10 @@
 
 #include "fluid/fluid_solver.hpp"
 #include "fluid/immersed_boundary.hpp"
+#include "fluid/viscosity_contrast.hpp"
+#ifdef DLD_BENCH_CELLS
+#include "membrane/sphere_mesh.hpp"
+#endif
 #include "memory_bandwidth.hpp"
 #include "naive_bgk.hpp"
 #include "shared/scene.hpp"
@@ -164,6 +168,43 @@ BENCHMARK(BM_IbCoupledStep)
     ->ArgsProduct({{1, 2}, {1, 17}})
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
+
+#ifdef DLD_BENCH_CELLS
+// The inside/outside viscosity field of one coupled step for `cells` closed cells: icospheres of
+// 1280 faces flattened to RBC proportions (radius 9.75 nodes, thickness 0.35 of the width: the
+// dx = 0.4 um cell), centred like marker_cells. Args: threads, cells.
+void BM_ViscosityField(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  const int cells = static_cast<int>(state.range(1));
+  const dld::membrane::TriMesh m = dld::membrane::icosphere(3, 9.75);
+  const auto centres = marker_cells(s.lattice(), cells);  // first marker of each cloud ~ centre
+  std::vector<double> x;
+  std::vector<std::uint32_t> nodes, faces, ids;
+  for (int c = 0; c < cells; ++c) {
+    const double* o = &centres[3 * 1002 * static_cast<std::size_t>(c)];
+    for (int n = 0; n < m.node_count(); ++n)
+      x.insert(x.end(), {o[0] + m.nodes(0, n), o[1] + m.nodes(1, n),
+                         0.5 * s.lattice().nz() + 0.35 * m.nodes(2, n)});
+    nodes.push_back(static_cast<std::uint32_t>(m.node_count()));
+    faces.push_back(static_cast<std::uint32_t>(m.face_count()));
+    for (const auto& f : m.faces)
+      for (int v : f) ids.push_back(static_cast<std::uint32_t>(v));
+  }
+  dld::fluid::ViscosityContrast vc(s.lattice(), 1.0, 3.0, nodes, faces, ids);
+  double dx = 1e-3;
+  for (auto _ : state) {
+    for (double& v : x) v += dx;
+    dx = -dx;
+    vc.update(x, s.tau_field());
+  }
+  state.counters["inside_nodes"] = static_cast<double>(vc.inside_nodes().size());
+}
+BENCHMARK(BM_ViscosityField)
+    ->ArgsProduct({{1, 2}, {1, 17}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+#endif
 
 // The lattice step of a coupled run (force field in, velocity field out) against the plain one.
 void BM_DldCellStepWithForceField(benchmark::State& state) {
