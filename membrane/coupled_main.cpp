@@ -2,9 +2,10 @@
 // The coupled mode of dld-membrane: the cells of this process (an equal share of the scene's
 // [[cells.cell]] list) exchange positions and forces for velocities with dld-fluid every step,
 // and move with the fluid (no-slip: X += U dt, dt = 1 in lattice units).
-// Output: per-cell centroid (device frame, um: cells are never folded into the box) and volume
-// every `sample_every` steps, rewritten atomically every `flush_every_s` and when the run ends or
-// fails. Progress lines give pillars passed, steps/s, the ETA to the pillar target and the modes.
+// Output (membrane/cells_part_file): per-cell centroid (device frame, um: cells are never folded
+// into the box) and volume every `sample_every` steps, and with [output] mesh_every the nodes of
+// every cell every that many steps (membrane/mesh_output), each appended and flushed as taken.
+// Progress lines give pillars passed, steps/s, the ETA to the pillar target and the modes.
 #include "membrane/coupled_main.hpp"
 
 #include <fmt/format.h>
@@ -21,10 +22,11 @@
 #include "coupler/error.hpp"
 #include "coupler/membrane_side.hpp"
 #include "coupler/scene_identity.hpp"
+#include "membrane/cells_part_file.hpp"
+#include "membrane/mesh_output.hpp"
 #include "membrane/run_checkpoint.hpp"
 #include "membrane/stability_guard.hpp"
 #include "shared/column_tracker.hpp"
-#include "shared/h5file.hpp"
 
 namespace dld::membrane {
 namespace {
@@ -32,42 +34,6 @@ namespace {
 volatile sig_atomic_t g_stop = 0;
 void on_sigint(int) {
   g_stop = 1;
-}
-
-/// What a run file says about the run besides the samples (read by dld-analyze).
-struct RunFacts {
-  int cells = 0, first_cell = 0;
-  double dt_s = 0, lambda_um = 0, row_shift_um = 0;
-  std::string scene_name;
-  std::optional<double> capillary_number;
-  std::optional<TransportMode> expected_mode;  ///< the scene's [cells] expected_mode, if stated
-};
-
-/// Writes the samples to `path` through a temporary file and a rename, so a reader (or a crash)
-/// never sees a half-written file: the previous complete file stays until the new one is whole.
-void write_samples(const std::string& path, const std::vector<double>& rows, const RunFacts& r) {
-  std::filesystem::path p(path);
-  if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
-  const std::string tmp = path + ".tmp";
-  {
-    H5File f(tmp, H5File::Mode::kCreate);
-    const std::uint64_t width = 1 + 4 * static_cast<std::uint64_t>(r.cells);
-    f.write("/cells/samples", rows.data(), {rows.size() / width, width});
-    f.attribute(
-        "/cells/samples", "columns",
-        std::string("step, then per cell: centroid x y z [um, device frame], volume [um^3]"));
-    f.attribute("/cells", "count", static_cast<std::int64_t>(r.cells));
-    f.attribute("/cells", "first_cell", static_cast<std::int64_t>(r.first_cell));
-    f.attribute("/cells", "dt_s", r.dt_s);
-    f.attribute("/cells", "frame", std::string("device"));
-    f.attribute("/cells", "pillar_spacing_um", r.lambda_um);
-    f.attribute("/cells", "row_shift_um", r.row_shift_um);
-    f.attribute("/cells", "scene_name", r.scene_name);
-    if (r.capillary_number) f.attribute("/cells", "capillary_number", *r.capillary_number);
-    // Only when stated: without it dld-analyze falls back to its dilute-limit map.
-    if (r.expected_mode) f.attribute("/cells", "expected_mode", to_string(*r.expected_mode));
-  }
-  std::filesystem::rename(tmp, path);
 }
 
 std::optional<double> capillary_number(const Scene& scene) {
@@ -161,20 +127,46 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     c.rows = rows;
     write_run_checkpoint(a.checkpoint, c);
   };
+  // Made once connected (an error then reaches the fluid through the coupler); on resume it
+  // starts from the checkpoint's samples.
+  std::optional<CellsPartFile> part;
+  std::optional<MeshOutput> mesh;
+  const std::int64_t mesh_every = scene.output.mesh_every;
+  auto open_output = [&] {
+    if (a.output.empty()) {
+      if (mesh_every > 0) spdlog::warn("[output] mesh_every: no output file (-o), no meshes");
+      return;
+    }
+    part.emplace(a.output, facts, rows,
+                 a.resume.empty() ? std::nullopt : std::optional<std::int64_t>(offset));
+    if (mesh_every > 0) {
+      mesh.emplace(part->file(), cells.reference(), cells.cell_count(), first, facts.dt_s);
+    } else {
+      // An earlier run's XDMF would name meshes this part file does not hold.
+      std::error_code ignored;
+      std::filesystem::remove(mesh_xdmf_path(a.output), ignored);
+    }
+  };
   auto sample = [&](std::int64_t step) {
+    const std::size_t begin = rows.size();
     rows.push_back(static_cast<double>(step));
     const auto c = centroids_um();
     for (int k = 0; k < cells.cell_count(); ++k)
       rows.insert(rows.end(),
                   {c[k].x(), c[k].y(), c[k].z(), cells.volume(k) * dx_um * dx_um * dx_um});
     tracker.update(c);
+    if (part)
+      part->append(
+          std::vector<double>(rows.begin() + static_cast<std::ptrdiff_t>(begin), rows.end()));
+  };
+  auto sample_mesh = [&](std::int64_t step) {
+    if (mesh) mesh->append(step, cells.positions() * dx_um);
   };
   auto finish = [&] {
-    if (!a.output.empty()) write_samples(a.output, rows, facts);
+    if (part) part->file().flush();
   };
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  auto last_flush = start;
   auto progress = [&](std::int64_t step) {
     const double secs = std::chrono::duration<double>(Clock::now() - start).count();
     double done = 0;  // columns of the slowest cell, fractional
@@ -210,7 +202,13 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
                  total);
     Points force;
     std::vector<double> u(static_cast<std::size_t>(3 * cells.node_count()));
+    open_output();
     if (rows.empty()) sample(0);
+    // The start, and on resume the checkpoint's step when its sample was lost with the previous
+    // part file.
+    if (mesh && offset % mesh_every == 0 &&
+        (mesh->samples().empty() || mesh->samples().back().step < offset))
+      sample_mesh(offset);
     std::int64_t s = offset;
     std::string reason = "step limit reached";
     // Wall time per step: membrane work (forces, moving the nodes) and the exchange, which includes
@@ -230,6 +228,7 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
       cells.move(std::span<const double>(u), 1.0);
       t_membrane += std::chrono::duration<double>(t1 - t0 + (Clock::now() - t2)).count();
       t_exchange += std::chrono::duration<double>(t2 - t1).count();
+      if (mesh_every > 0 && (s + 1) % mesh_every == 0) sample_mesh(s + 1);
       if ((s + 1) % a.sample_every == 0) {
         sample(s + 1);
         guard.check(cells, s + 1, first);
@@ -242,11 +241,6 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
           reason = "every cell's mode is certain";
           ++s;
           break;
-        }
-        if (!a.output.empty() &&
-            Clock::now() - last_flush > std::chrono::duration<double>(a.flush_every_s)) {
-          finish();
-          last_flush = Clock::now();
         }
       }
       if (a.checkpoint_every > 0 && (s + 1) % a.checkpoint_every == 0) checkpoint(s + 1);

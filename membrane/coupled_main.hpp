@@ -15,7 +15,6 @@ struct CoupledArgs {
   std::string output;  ///< cell trajectories (HDF5); "" = none
   int pillars = 0;     ///< end the run once every cell has passed this many columns (0: off)
   bool stop_when_mode_certain = false;  ///< end the run once every cell's mode is certain
-  double flush_every_s = 30;            ///< wall seconds between rewrites of the output file
   std::string checkpoint;               ///< checkpoint file ("" = none), written when the run ends
   std::int64_t checkpoint_every = 0;    ///< and every this many steps (0: only at the end)
   std::string resume;                   ///< start from this checkpoint; `steps` stays the last step

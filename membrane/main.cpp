@@ -145,9 +145,6 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--until-mode-certain", coupled.stop_when_mode_certain,
                "coupled mode: end the run once every cell's mode (zigzag/displacement) is certain");
-  app.add_option("--flush-every", coupled.flush_every_s,
-                 "coupled mode: wall seconds between rewrites of the trajectory file")
-      ->check(CLI::PositiveNumber);
   app.add_option(
       "--checkpoint", coupled.checkpoint,
       "coupled mode: checkpoint file, written when the run ends (and see --checkpoint-every)");

@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <hdf5.h>
 
+#include <algorithm>
+
 #include "shared/input_error.hpp"
 
 namespace dld {
@@ -196,6 +198,58 @@ void H5File::append_row(const std::string& name, const std::vector<double>& row,
   Id mspace{H5Screate_simple(2, count, nullptr), H5Sclose};
   check(H5Dwrite(set.id, H5T_NATIVE_DOUBLE, mspace.id, fspace.id, H5P_DEFAULT, row.data()), path_,
         "appending to " + name);
+}
+
+void H5File::append(const std::string& name, const double* data, std::uint64_t count,
+                    const std::vector<std::uint64_t>& slab) {
+  const int rank = static_cast<int>(slab.size()) + 1;
+  std::vector<hsize_t> shape{0};
+  shape.insert(shape.end(), slab.begin(), slab.end());
+  hsize_t slab_size = 1;
+  for (auto v : slab) slab_size *= v;
+  if (!exists(name)) {
+    make_parents(name);
+    std::vector<hsize_t> maxd = shape, chunk = shape;
+    maxd[0] = H5S_UNLIMITED;
+    // About 1 MiB per chunk and at least one slab: a sample is read or written whole.
+    chunk[0] = std::clamp<hsize_t>((1u << 20) / (8 * std::max<hsize_t>(slab_size, 1)), 1, 1024);
+    Id space{H5Screate_simple(rank, shape.data(), maxd.data()), H5Sclose};
+    Id plist{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+    H5Pset_chunk(plist.id, rank, chunk.data());
+    Id set{checked_id(H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, plist.id,
+                                 H5P_DEFAULT),
+                      path_, "creating dataset " + name),
+           H5Dclose};
+  }
+  Id set{checked_id(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), path_, "opening " + name), H5Dclose};
+  Id fspace0{H5Dget_space(set.id), H5Sclose};
+  std::vector<hsize_t> cur(static_cast<std::size_t>(rank));
+  if (H5Sget_simple_extent_ndims(fspace0.id) != rank)
+    throw InputError(fmt::format("{}: dataset {} is not of rank {}", path_, name, rank));
+  H5Sget_simple_extent_dims(fspace0.id, cur.data(), nullptr);
+  for (std::size_t i = 0; i < slab.size(); ++i)
+    if (cur[i + 1] != slab[i])
+      throw InputError(fmt::format("{}: dataset {} has another shape than the slab", path_, name));
+  if (count == 0) return;
+  std::vector<hsize_t> next = cur, start(cur.size(), 0), n = shape;
+  next[0] = cur[0] + count;
+  check(H5Dset_extent(set.id, next.data()), path_, "extending " + name);
+  Id fspace{H5Dget_space(set.id), H5Sclose};
+  start[0] = cur[0];
+  n[0] = count;
+  H5Sselect_hyperslab(fspace.id, H5S_SELECT_SET, start.data(), nullptr, n.data(), nullptr);
+  Id mspace{H5Screate_simple(rank, n.data(), nullptr), H5Sclose};
+  check(H5Dwrite(set.id, H5T_NATIVE_DOUBLE, mspace.id, fspace.id, H5P_DEFAULT, data), path_,
+        "appending to " + name);
+}
+
+void H5File::resize(const std::string& name, std::uint64_t rows) {
+  Id set{checked_id(H5Dopen2(id_, name.c_str(), H5P_DEFAULT), path_, "opening " + name), H5Dclose};
+  Id space{H5Dget_space(set.id), H5Sclose};
+  std::vector<hsize_t> d(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space.id)));
+  H5Sget_simple_extent_dims(space.id, d.data(), nullptr);
+  d[0] = rows;
+  check(H5Dset_extent(set.id, d.data()), path_, "resizing " + name);
 }
 
 void H5File::flush() {

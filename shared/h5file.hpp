@@ -38,6 +38,13 @@ class H5File {
   /// on first use with the given column names stored as a "columns" attribute.
   void append_row(const std::string& name, const std::vector<double>& row,
                   const std::vector<std::string>& columns = {});
+  /// Appends `count` slabs of shape `slab` (row-major) along the first dimension of an n-D
+  /// dataset of doubles (count x slab...), creating it chunked with an unlimited first dimension
+  /// on first use: a time series of arrays that grows as a run goes (e.g. node positions).
+  void append(const std::string& name, const double* data, std::uint64_t count,
+              const std::vector<std::uint64_t>& slab);
+  /// Shortens (or lengthens) an extendible dataset along its first dimension to `rows`.
+  void resize(const std::string& name, std::uint64_t rows);
   void flush();
   /// Closes the file now and reports a failure to write it out (the destructor cannot): a file
   /// that is renamed into place afterwards must be complete.

@@ -127,6 +127,9 @@ Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown, std::string_vi
     s.output.snapshot_every = o->integer("snapshot_every", 0);
     if (s.output.snapshot_every < 0) o->fail("snapshot_every", "expected >= 0");
     s.output.fields = o->boolean("fields", true);
+    s.output.mesh_every = o->integer("mesh_every", 0);
+    if (s.output.mesh_every < 0)
+      o->fail("mesh_every", "expected steps between mesh samples >= 0 (0: no meshes)");
   }
   if (s.output.file.empty()) s.output.file = "runs/" + s.name + ".h5";
   if (auto c = root.optional_section("coupling")) {

@@ -53,6 +53,9 @@ struct OutputParams {
   std::string file;                 ///< run HDF5 file; "" = runs/<scene name>.h5
   std::int64_t snapshot_every = 0;  ///< steps between field snapshots; 0 = final one only
   bool fields = true;               ///< write velocity/density snapshots at all
+  /// Steps between samples of the membrane programs' node positions (their part files, with an
+  /// XDMF beside them); 0 = none. Read here because [output] is this reader's table.
+  std::int64_t mesh_every = 0;
 };
 
 /// How the fluid and the membrane programs are coupled ([coupling] table).

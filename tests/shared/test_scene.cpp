@@ -139,6 +139,20 @@ TEST(Scene, MissingFileIsNamed) {
   }
 }
 
+TEST(Scene, MeshOutputIsOffUnlessAsked) {
+  EXPECT_EQ(dld::parse_scene(kGood, "good.toml").output.mesh_every, 0);
+  const std::string on = std::string(kGood) + "[output]\nmesh_every = 250\n";
+  EXPECT_EQ(dld::parse_scene(on, "good.toml").output.mesh_every, 250);
+}
+
+TEST(Scene, BadMeshEveryIsNamed) {
+  expect_error(std::string(kGood) + "[output]\nmesh_every = -5\n", "output.mesh_every", 14, ">= 0");
+  expect_error(std::string(kGood) + "[output]\nmesh_every = 2.5\n", "output.mesh_every", 14,
+               "expected an integer");
+  expect_error(std::string(kGood) + "[output]\nmesh_every = \"often\"\n", "output.mesh_every", 14,
+               "expected an integer");
+}
+
 TEST(Scene, TablesOfOtherProgramsAreLeftToThem) {
   // [membrane] is read by the membrane program; the fluid reader must not reject it.
   EXPECT_NO_THROW(
