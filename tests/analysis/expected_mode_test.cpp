@@ -23,8 +23,9 @@ TEST(ExpectedMode, TheStudyMapHasAllNineCases) {
     for (double ca : {0.2, 0.5, 1.0}) {
       const ExpectedMode e = lookup_expected_mode(map, kMap, d, ca);
       EXPECT_NE(e.source.find(kMap), std::string::npos) << e.source;
-      // The first pass left d = 6, Ca = 1 undecided ("mixed"): no failure probability.
-      EXPECT_EQ(e.known(), !(d == 6.0 && ca == 1.0)) << d << " " << ca;
+      // The dx = 0.8 um map with viscosity ratio 5 leaves d = 6, Ca 0.5 and 1 undecided
+      // ("mixed": lane drops between displaced stretches): no failure probability there.
+      EXPECT_EQ(e.known(), !(d == 6.0 && ca >= 0.5)) << d << " " << ca;
     }
   }
 }
