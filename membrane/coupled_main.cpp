@@ -69,14 +69,10 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
   coupler::MembraneSide side(mc);
   // Every cell shares the reference mesh's triangles; the fluid needs them for the inside/outside
   // viscosity field (protocol v2), so they are sent once, in the hello.
-  std::vector<std::uint32_t> faces;
-  for (int k = 0; k < cells.cell_count(); ++k)
-    for (const Face& f : cells.reference().faces)
-      for (int v : f) faces.push_back(static_cast<std::uint32_t>(v));
   side.set_cell_surfaces(
       std::vector<std::uint32_t>(static_cast<std::size_t>(cells.cell_count()),
                                  static_cast<std::uint32_t>(cells.reference().face_count())),
-      std::move(faces));
+      face_indices(cells.reference(), cells.cell_count()));
 
   const double dx_um = scene.lattice.dx_um;
   const RunFacts facts{

@@ -184,4 +184,17 @@ void write_off(const TriMesh& mesh, const std::string& path) {
   fs::rename(tmp, p);
 }
 
+std::vector<std::uint32_t> face_indices(const TriMesh& mesh, int copies) {
+  std::vector<std::uint32_t> out;
+  out.reserve(3 * mesh.faces.size() * static_cast<std::size_t>(std::max(copies, 0)));
+  for (int k = 0; k < copies; ++k) {
+    for (const Face& f : mesh.faces) {
+      for (int v : f) {
+        out.push_back(static_cast<std::uint32_t>(v));
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace dld::membrane

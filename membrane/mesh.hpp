@@ -4,6 +4,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,10 @@ std::vector<std::array<int, 2>> edges(const TriMesh& mesh);
 
 double surface_area(const TriMesh& mesh, const Points& x);
 /// Enclosed volume by the divergence theorem (positive for outward faces).
+/// The triangles as 3 node indices each, repeated for `copies` cells of this mesh (indices stay
+/// local to each cell): the layout the coupler's handshake carries (docs/protocol.md).
+std::vector<std::uint32_t> face_indices(const TriMesh& mesh, int copies = 1);
+
 double enclosed_volume(const TriMesh& mesh, const Points& x);
 inline double surface_area(const TriMesh& mesh) {
   return surface_area(mesh, mesh.nodes);

@@ -82,7 +82,7 @@ struct Scene {
 
   LatticeUnits units() const;
   /// Relaxation time inside the cells: nu_in = ratio nu_out with nu = (tau - 1/2)/3 [-].
-  double tau_inner() const { return 0.5 + fluid.viscosity_ratio * (lattice.tau - 0.5); }
+  double tau_inner() const { return inner_relaxation_time(lattice.tau, fluid.viscosity_ratio); }
   /// Box size in nodes (whole numbers, checked at load).
   int nx() const;
   int ny() const;

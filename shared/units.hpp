@@ -5,6 +5,12 @@
 
 namespace dld {
 
+/// Relaxation time of a fluid `ratio` times as viscous as one relaxing with `tau`:
+/// nu = (tau - 1/2)/3, so tau_in = 1/2 + ratio (tau - 1/2) [-].
+inline double inner_relaxation_time(double tau, double ratio) {
+  return 0.5 + ratio * (tau - 0.5);
+}
+
 class LatticeUnits {
  public:
   /// dx_m: lattice spacing [m]; tau: outer relaxation time [-]; nu_m2_s: outer kinematic

@@ -188,8 +188,8 @@ void BM_ViscosityField(benchmark::State& state) {
                          0.5 * s.lattice().nz() + 0.35 * m.nodes(2, n)});
     nodes.push_back(static_cast<std::uint32_t>(m.node_count()));
     faces.push_back(static_cast<std::uint32_t>(m.face_count()));
-    for (const auto& f : m.faces)
-      for (int v : f) ids.push_back(static_cast<std::uint32_t>(v));
+    const auto local = dld::membrane::face_indices(m);
+    ids.insert(ids.end(), local.begin(), local.end());
   }
   dld::fluid::ViscosityContrast vc(s.lattice(), 1.0, 3.0, nodes, faces, ids);
   double dx = 1e-3;

@@ -82,8 +82,7 @@ Sphere sphere(double cx, double cy, double cz, double radius, int subdivisions =
     for (int a = 0; a < 3; ++a) s.x.push_back(m.nodes(a, n) + (a == 0 ? cx : a == 1 ? cy : cz));
   s.nodes = {static_cast<std::uint32_t>(m.node_count())};
   s.faces = {static_cast<std::uint32_t>(m.face_count())};
-  for (const auto& f : m.faces)
-    for (int v : f) s.face_ids.push_back(static_cast<std::uint32_t>(v));
+  s.face_ids = membrane::face_indices(m);
   return s;
 }
 

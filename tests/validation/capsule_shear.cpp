@@ -23,6 +23,7 @@
 #include "membrane/cell_set.hpp"
 #include "membrane/sphere_mesh.hpp"
 #include "membrane/taylor_deformation.hpp"
+#include "shared/units.hpp"
 #include "tests/temp_dir.hpp"
 
 namespace dld::validation {
@@ -170,7 +171,7 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
       std::unique_ptr<fluid::ViscosityContrast> contrast;
       if (s.viscosity_ratio != 1.0) {
         contrast = std::make_unique<fluid::ViscosityContrast>(
-            solver.lattice(), s.tau, 0.5 + s.viscosity_ratio * (s.tau - 0.5),
+            solver.lattice(), s.tau, inner_relaxation_time(s.tau, s.viscosity_ratio),
             fluid_side.cell_nodes(), fluid_side.cell_faces(), fluid_side.faces());
         run.inside_min = 1e300;
       }
@@ -222,10 +223,7 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
               id, endpoint, "capsule", 0, 1, 0, {static_cast<std::uint32_t>(run.nodes)}, options()},
           context);
       auto& side = *owned;
-      std::vector<std::uint32_t> triangles;
-      for (const auto& f : mesh.faces)
-        for (int v : f) triangles.push_back(static_cast<std::uint32_t>(v));
-      side.set_cell_surfaces({static_cast<std::uint32_t>(run.faces)}, std::move(triangles));
+      side.set_cell_surfaces({static_cast<std::uint32_t>(run.faces)}, membrane::face_indices(mesh));
       side.initialize();
       membrane::Points force;
       std::vector<double> velocity(3 * static_cast<std::size_t>(run.nodes));
