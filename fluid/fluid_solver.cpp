@@ -21,7 +21,14 @@ FluidConfig fluid_config(const Scene& scene) {
 }
 
 FluidSolver::FluidSolver(const FluidConfig& config)
-    : config_(config), lattice_(config.domain), force_y_(config.force_y) {
+    : config_(config),
+      lattice_(config.domain),
+      f_(HugePageAllocator<double>(config.huge_pages)),
+      g_(HugePageAllocator<double>(config.huge_pages)),
+      force_field_(HugePageAllocator<double>(config.huge_pages)),
+      tau_field_(HugePageAllocator<double>(config.huge_pages)),
+      velocity_(HugePageAllocator<double>(config.huge_pages)),
+      force_y_(config.force_y) {
   const std::size_t n = lattice_.padded_size();
   f_.assign(n * D3Q19::q + kPopulationPadding, 0.0);
   for (int i = 0; i < D3Q19::q; ++i)
@@ -95,7 +102,7 @@ void FluidSolver::restore(const std::vector<double>& populations, const Memory& 
   if (populations.size() != f_.size())
     throw std::invalid_argument(
         "FluidSolver::restore: population count does not match the lattice");
-  f_ = populations;
+  f_.assign(populations.begin(), populations.end());
   steps_ = m.steps;
   force_y_ = m.force_y;
   applied_force_y_ = m.applied_force_y;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "fluid/collision.hpp"
+#include "fluid/huge_page_allocator.hpp"
 #include "fluid/lateral_controller.hpp"
 #include "fluid/lattice.hpp"
 #include "fluid/stream_collide.hpp"
@@ -25,6 +26,8 @@ struct FluidConfig {
   double force_y = 0.0;       ///< initial y force (adjusted if lateral_control)
   bool lateral_control = false;
   double rho0 = 1.0;  ///< initial density
+  bool huge_pages =
+      true;  ///< back the per-node arrays with huge pages (fluid/huge_page_allocator.hpp)
 };
 
 /// The fluid configuration a scene asks for (the DLD unit cell).
@@ -83,8 +86,9 @@ class FluidSolver {
  private:
   FluidConfig config_;
   Lattice lattice_;
-  std::vector<double> f_, g_;  ///< current and next populations
-  std::vector<double> force_field_, tau_field_, velocity_;
+  using Field = std::vector<double, HugePageAllocator<double>>;
+  Field f_, g_;  ///< current and next populations
+  Field force_field_, tau_field_, velocity_;
   bool velocity_current_ = false;  ///< velocity_ holds the kernel's u of the last step
   FlowSums sums_;
   double force_y_ = 0.0;          ///< y force for the next step

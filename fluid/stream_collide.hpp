@@ -36,6 +36,8 @@ struct KernelParams {
 
 /// Values allocated past the end of a population array so masked lanes can read safely.
 inline constexpr std::size_t kPopulationPadding = 64;
+/// Prefetch distance in values (8 blocks of 8 nodes ahead); a prefetch past an array never faults.
+inline constexpr std::ptrdiff_t kPrefetchDistance = 64;
 
 namespace detail {
 
@@ -56,6 +58,15 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
   for (int i = 0; i < D3Q19::q; ++i) {
     in[i] = src + i * n + node - off[i];
     out[i] = dst + i * n + node;
+  }
+  // Software prefetch kPrefetchDistance values ahead on all 38 streams: the hardware prefetchers
+  // do not follow that many streams, and the kernel otherwise stalls on memory it does not
+  // saturate (128^3 box, 2 threads: 1.2-2.1x, bench_fluid side by side, 2026-11-30).
+  if constexpr (!kMasked) {
+    for (int i = 0; i < D3Q19::q; ++i) {
+      __builtin_prefetch(in[i] + kPrefetchDistance, 0, 3);
+      __builtin_prefetch(out[i] + kPrefetchDistance, 1, 3);
+    }
   }
   const double* force_x = kForceField ? p.force_field[0] + node : nullptr;
   const double* force_y = kForceField ? p.force_field[1] + node : nullptr;

@@ -6,9 +6,11 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <vector>
 
 #include "fluid/fluid_solver.hpp"
 #include "fluid/immersed_boundary.hpp"
@@ -62,23 +64,36 @@ void report(benchmark::State& state, double nodes) {
       nodes * static_cast<double>(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
 }
 
+// Second argument: 1 = per-node arrays on huge pages (the default), 0 = ordinary pages.
 void BM_DldCell(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
-  FluidSolver s(dld_config());
+  auto config = dld_config();
+  config.huge_pages = state.range(1) != 0;
+  FluidSolver s(config);
   for (int i = 0; i < 20; ++i) s.step();
   for (auto _ : state) s.step();
   report(state, static_cast<double>(s.lattice().fluid_nodes()));
 }
-BENCHMARK(BM_DldCell)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DldCell)
+    ->ArgsProduct({{1, 2}, {1, 0}})
+    ->ArgNames({"threads", "huge"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 void BM_PeriodicBox128(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
-  FluidSolver s(periodic_box(128));
+  auto config = periodic_box(128);
+  config.huge_pages = state.range(1) != 0;
+  FluidSolver s(config);
   for (int i = 0; i < 3; ++i) s.step();
   for (auto _ : state) s.step();
   report(state, static_cast<double>(s.lattice().fluid_nodes()));
 }
-BENCHMARK(BM_PeriodicBox128)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PeriodicBox128)
+    ->ArgsProduct({{1, 2}, {1, 0}})
+    ->ArgNames({"threads", "huge"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 
 void BM_NaiveBgkBox128(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
@@ -232,6 +247,36 @@ BENCHMARK(BM_MemoryBandwidth)
     ->Arg(1)
     ->Arg(2)
     ->Iterations(1)
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+// The roofline fraction from paired measurements: each round times a triad pass and then ten
+// steps of the 128^3 box, back to back, so both see the same state of this shared machine (its
+// bandwidth alone varied 43-85 GB/s within minutes on 2026-11-30). Reports the median, lowest and
+// highest fraction over the rounds.
+void BM_RooflineFraction128(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(periodic_box(128));
+  for (int i = 0; i < 3; ++i) s.step();
+  const double nodes = static_cast<double>(s.lattice().fluid_nodes());
+  std::vector<double> fractions;
+  for (auto _ : state) {
+    const double bw = dld::bench::measured_bandwidth_gb_s();
+    const double t0 = omp_get_wtime();
+    constexpr int kSteps = 10;
+    for (int i = 0; i < kSteps; ++i) s.step();
+    const double mlups = nodes * kSteps / (omp_get_wtime() - t0) / 1e6;
+    fractions.push_back(mlups / (bw * 1e9 / kBytesPerUpdate / 1e6));
+  }
+  std::sort(fractions.begin(), fractions.end());
+  state.counters["fraction_median"] = fractions[fractions.size() / 2];
+  state.counters["fraction_min"] = fractions.front();
+  state.counters["fraction_max"] = fractions.back();
+}
+BENCHMARK(BM_RooflineFraction128)
+    ->Arg(1)
+    ->Arg(2)
+    ->Iterations(5)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 

@@ -72,7 +72,9 @@ TEST(ImmersedBoundary, SpreadingConservesTotalForceEverywhere) {
     for (std::size_t m = 0; m < frc.size(); ++m) want[m % 3] += frc[m];
     for (int a = 0; a < 3; ++a)
       for (std::size_t s = 0; s < n; ++s) {
-        if (L.solid_mask()[s]) EXPECT_EQ(field[a * n + s], 0.0);
+        if (L.solid_mask()[s]) {
+          EXPECT_EQ(field[a * n + s], 0.0);
+        }
         got[a] += field[a * n + s];
       }
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(got[a], want[a], 1e-12) << static_cast<int>(k);
@@ -136,7 +138,9 @@ TEST(ImmersedBoundary, ShiftedFaceMovesTheWrappedColumnsByTheShift) {
       const std::vector<double> pos{X, Y, Z};
       std::vector<double> out(3);
       ib.interpolate(pos, {u.data(), u.data() + n, u.data() + 2 * n}, out);
-      if (X == 0.2 || X == 23.7) EXPECT_GT(w_other, 0.0);  // every kernel reaches across
+      if (X == 0.2 || X == 23.7) {
+        EXPECT_GT(w_other, 0.0);  // every kernel reaches across
+      }
       EXPECT_NEAR(out[1], c * (Y + sign * 3.4 * w_other), 1e-14) << "X " << X;
       EXPECT_NEAR(out[0], 0.3 + 0.02 * Z, 1e-14);
       EXPECT_NEAR(out[2], -0.005 * Z, 1e-14);

@@ -16,8 +16,8 @@ TEST_P(StudyStatesFine, AreClearOfTheContactRangeAndGiveTheStudysHaematocrit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Study, StudyStatesFine, ::testing::ValuesIn(test::kStudyStates),
-                         [](const auto& info) {
-                           return std::to_string(info.param.cells) + "cells";
+                         [](const auto& param_info) {
+                           return std::to_string(param_info.param.cells) + "cells";
                          });
 
 }  // namespace

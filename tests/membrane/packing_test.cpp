@@ -28,8 +28,8 @@ TEST_P(StudyStates, AreClearOfTheContactRangeAndGiveTheStudysHaematocrit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Coarse, StudyStates, ::testing::ValuesIn(test::kStudyStates),
-                         [](const auto& info) {
-                           return std::to_string(info.param.cells) + "cells";
+                         [](const auto& param_info) {
+                           return std::to_string(param_info.param.cells) + "cells";
                          });
 
 struct Fixture {

@@ -39,8 +39,9 @@ TEST(Layering, FoldersIncludeOnlyWhatTheyMay) {
       std::string line;
       while (std::getline(in, line)) {
         std::smatch m;
-        if (std::regex_search(line, m, include))
+        if (std::regex_search(line, m, include)) {
           EXPECT_FALSE(banned.count(m[1].str())) << e.path() << " includes " << m[1] << "/";
+        }
       }
     }
   }

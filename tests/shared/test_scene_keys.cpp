@@ -59,7 +59,9 @@ TEST(SceneKeys, DocumentedKeysAreExactlyTheParsersKeys) {
   for (const auto& k : documented)
     EXPECT_TRUE(queried.count(k)) << "documented key never read: " << k;
   for (const auto& r : rows)
-    if (r.example != "-") EXPECT_TRUE(s.document->was_read(r.key)) << r.key;
+    if (r.example != "-") {
+      EXPECT_TRUE(s.document->was_read(r.key)) << r.key;
+    }
 }
 
 }  // namespace
