@@ -98,8 +98,10 @@ MembraneScene read_membrane_scene(const Scene& scene) {
   const LatticeUnits ref(0.4e-6, scene.lattice.tau,
                          scene.fluid.viscosity_Pa_s / scene.fluid.density_kg_m3,
                          scene.fluid.density_kg_m3);
-  const ModelContext ctx{out.reference_lu, out.kappa_s_lu, out.radius_lu,
-                         units.modulus_lu(ref.modulus_n_m(1.0)), units.energy_lu(1.0)};
+  const ModelContext ctx{
+      out.reference_lu,     out.kappa_s_lu,
+      out.radius_lu,        units.modulus_lu(ref.modulus_n_m(1.0)),
+      units.energy_lu(1.0), m.has("capillary_number") ? m.positive("capillary_number") : 0.0};
   std::vector<std::string> names = strings(scene, m, "models");
   std::vector<AnyModel> models;
   for (std::size_t i = 0; i < names.size(); ++i) {

@@ -45,8 +45,21 @@ AnyModel make_bending(const std::optional<TomlSection>& t, const ModelContext& c
 }
 
 AnyModel make_volume(const std::optional<TomlSection>& t, const ModelContext& c) {
-  const double rel = need(t, "volume").in_range("modulus_rel", 0.0, 1e9);
-  return VolumePenalty(c.reference, {rel * c.kappa_s_lu / c.radius_lu});
+  const TomlSection& s = need(t, "volume");
+  const double rel = s.in_range("modulus_rel", 0.0, 1e9);
+  // kappa_V relative to the kappa_s of another Ca: the same kappa_V at every Ca of a sweep (kappa_s
+  // falls as 1/Ca at fixed drive), where a stiffness that follows kappa_s would weaken 5-fold
+  // from Ca 0.2 to 1.0.
+  double kappa_s = c.kappa_s_lu;
+  if (s.has("reference_capillary_number")) {
+    const double ref = s.positive("reference_capillary_number");
+    if (!(c.capillary_number > 0.0)) {
+      s.fail("reference_capillary_number",
+             "needs [membrane] capillary_number (kappa_s was given directly)");
+    }
+    kappa_s *= c.capillary_number / ref;
+  }
+  return VolumePenalty(c.reference, {rel * kappa_s / c.radius_lu});
 }
 
 AnyModel make_area(const std::optional<TomlSection>& t, const ModelContext& c) {

@@ -28,6 +28,7 @@ struct ModelContext {
   double ref_modulus_to_lu;  ///< factor: modulus in lattice units of the dx = 0.4 um reference
                              ///< lattice (same tau and fluid) -> this lattice's units
   double energy_to_lu;       ///< factor: J -> lattice energy
+  double capillary_number;   ///< the scene's Ca; 0 when kappa_s was given directly
 };
 
 struct ModelEntry {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <variant>
 
 #include "membrane/membrane_scene.hpp"
 #include "test_meshes.hpp"
@@ -165,6 +166,38 @@ TEST(SceneKeys, ErrorsNameFileLineAndKey) {
   EXPECT_NE(e.find("[membrane.bending]"), std::string::npos) << e;
   e = scene_error(kGood + "[[cells.cell]]\ncentre_um = [16.0, 16.0, 2.4]\n");
   EXPECT_NE(e.find("inside the pillar"), std::string::npos) << e;
+}
+
+// kappa_V of the scene's volume penalty (lattice units).
+double volume_modulus(const std::string& membrane) {
+  const Scene s = parse_scene(std::string(kBase) + membrane, "t.toml", false);
+  const MembraneScene m = read_membrane_scene(s);
+  for (const auto& model : m.mechanics.models()) {
+    if (const auto* v = std::get_if<VolumePenalty>(&model)) return v->params().kappa_v;
+  }
+  return -1.0;
+}
+
+TEST(SceneKeys, VolumeModulusFollowsKappaSUnlessAReferenceCaIsGiven) {
+  auto at = [](double ca, const std::string& extra) {
+    std::string t = kGood;
+    t.replace(t.find("capillary_number = 0.2"), 22, "capillary_number = " + std::to_string(ca));
+    return volume_modulus(t + extra);
+  };
+  // modulus_rel alone: kappa_V = 100 kappa_s / r, so 5 times weaker at Ca 1.0 than at 0.2.
+  EXPECT_NEAR(at(0.2, "") / at(1.0, ""), 5.0, 1e-12);
+  // With the reference Ca, kappa_V is that of Ca 0.2 at every Ca.
+  const std::string ref = "reference_capillary_number = 0.2\n";
+  EXPECT_NEAR(at(1.0, ref) / at(0.2, ""), 1.0, 1e-12);
+  EXPECT_NEAR(at(0.5, ref) / at(0.2, ""), 1.0, 1e-12);
+  // Without a Ca (kappa_s given directly) there is nothing to refer to.
+  std::string direct = kGood;
+  direct.replace(direct.find("capillary_number = 0.2"), 22, "kappa_s_N_per_m = 1e-5");
+  const std::string e = scene_error(direct + ref);
+  EXPECT_NE(e.find("membrane.volume.reference_capillary_number"), std::string::npos) << e;
+  EXPECT_NE(e.find("needs [membrane] capillary_number"), std::string::npos) << e;
+  EXPECT_NE(scene_error(kGood + "reference_capillary_number = -1\n").find("positive"),
+            std::string::npos);
 }
 
 TEST(SceneKeys, UserMeshFileIsChecked) {
