@@ -26,8 +26,8 @@ struct FluidConfig {
   double force_y = 0.0;       ///< initial y force (adjusted if lateral_control)
   bool lateral_control = false;
   double rho0 = 1.0;  ///< initial density
-  bool huge_pages =
-      true;  ///< back the per-node arrays with huge pages (fluid/huge_page_allocator.hpp)
+  /// Back the per-node arrays with huge pages (fluid/huge_page_allocator.hpp).
+  bool huge_pages = true;
 };
 
 /// The fluid configuration a scene asks for (the DLD unit cell).

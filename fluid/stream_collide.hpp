@@ -61,7 +61,7 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
   }
   // Software prefetch kPrefetchDistance values ahead on all 38 streams: the hardware prefetchers
   // do not follow that many streams, and the kernel otherwise stalls on memory it does not
-  // saturate (128^3 box, 2 threads: 1.2-2.1x, bench_fluid side by side, 2026-11-30).
+  // saturate (128^3 box, 2 threads: 1.17-1.45x, bench_fluid side by side, 2026-11-30).
   if constexpr (!kMasked) {
     for (int i = 0; i < D3Q19::q; ++i) {
       __builtin_prefetch(in[i] + kPrefetchDistance, 0, 3);
