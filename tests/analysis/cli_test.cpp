@@ -261,5 +261,39 @@ TEST(PlotStudy, DrawsFailureAgainstHaematocritFromSummaries) {
       << bad.output;
 }
 
+TEST(PlotVolumeDrift, GivesTheSmallestAndTheMeanVolumeChangeOverEveryPart) {
+  if (!have_matplotlib()) {
+    GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
+  }
+  const std::string dir = testing::temp_dir("volume-drift");
+  // Two parts: cell 0 loses 4 % linearly, cells 1 and 2 keep their volume.
+  auto shrinking = testing::track(0, 3.0, 1.0, 1.0, testing::steps, 10);
+  for (std::size_t i = 0; i < shrinking.volume.size(); ++i) {
+    shrinking.volume[i] = 94.0 * (1.0 - 0.004 * static_cast<double>(i));
+  }
+  testing::write_run_file(dir + "/a-cells-0.h5", {shrinking}, {.first_cell = 0});
+  testing::write_run_file(dir + "/a-cells-1.h5",
+                          {testing::track(1, 4.0, 12.0, 1.0, testing::steps, 10),
+                           testing::track(2, 6.0, 20.0, 1.0, testing::steps, 10)},
+                          {.first_cell = 1});
+  testing::write_merged_run_file(dir + "/a.h5", {dir + "/a-cells-0.h5", dir + "/a-cells-1.h5"}, 2);
+  const std::string script = "/usr/bin/python3 " DLD_SOURCE_DIR "/analysis/plot_volume_drift.py ";
+  const Result r =
+      run(script + dir + "/drift.png 'run a=" + dir + "/a.h5' --csv " + dir + "/drift.csv", dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir + "/drift.png"), 1000u);
+  const auto rows = lines(dir + "/drift.csv");
+  ASSERT_EQ(rows.size(), 12u);  // header + 11 samples
+  // Last sample: step 1000, t = 1000 x 1e-7 s = 0.1 ms; smallest -4 %, mean -4/3 %.
+  EXPECT_EQ(rows.back(), "run a,1000,0.1,-4,-1.3333") << rows.back();
+  const Result bad = run(script + dir + "/bad.png " + dir + "/a.h5", dir);
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("expected LABEL=run.h5"), std::string::npos) << bad.output;
+  const Result missing = run(script + dir + "/bad.png x=" + dir + "/none.h5", dir);
+  EXPECT_NE(missing.status, 0);
+  EXPECT_NE(missing.output.find("none.h5: cannot open as HDF5"), std::string::npos)
+      << missing.output;
+}
+
 }  // namespace
 }  // namespace dld::analysis

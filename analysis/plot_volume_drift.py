@@ -1,0 +1,74 @@
+#!/usr/bin/python3
+"""Cell volumes over a run, for comparing the stability of runs side by side.
+
+    analysis/plot_volume_drift.py out.png LABEL=run.h5 [LABEL=run.h5 ...] [--x step] [--csv out.csv]
+
+Reads /membrane-k/cells/samples of each run file (columns: step, then per cell centroid x y z
+[um] and volume [um^3]) and the time step (its dt_s attribute); plots the smallest and the mean cell volume change
+[% of the first sample] against physical time [ms], or with --x step against the time step (a
+numerical effect tied to the step shows there as one curve whatever the time step). The CSV has one row per run and sample.
+"""
+import argparse
+import sys
+
+import h5py
+import numpy as np
+
+
+def volumes(path):
+    """(step, time_ms, volumes[sample, cell]) of one run file, all membrane parts side by side."""
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        sys.exit(f"{path}: cannot open as HDF5 ({e})")
+    with f:
+        parts = sorted(k for k in f if k.startswith("membrane-") and "cells/samples" in f[k])
+        if not parts:
+            sys.exit(f"{path}: no /membrane-k/cells/samples (expected a run file written by dld-run)")
+        dt_s = float(f[parts[0]]["cells"].attrs["dt_s"])
+        tables = [f[p]["cells/samples"][:] for p in parts]
+    n = min(len(t) for t in tables)
+    step = tables[0][:n, 0]
+    vol = np.hstack([t[:n, 4::4] for t in tables])
+    return step, step * dt_s * 1e3, vol
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("png")
+    ap.add_argument("runs", nargs="+", metavar="LABEL=run.h5")
+    ap.add_argument("--x", choices=["time", "step"], default="time")
+    ap.add_argument("--csv")
+    a = ap.parse_args()
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    rows = ["label,step,time_ms,min_volume_change_percent,mean_volume_change_percent"]
+    for spec in a.runs:
+        if "=" not in spec:
+            sys.exit(f"argument '{spec}': expected LABEL=run.h5")
+        label, path = spec.split("=", 1)
+        step, t_ms, vol = volumes(path)
+        change = 100 * (vol / vol[0] - 1)
+        lo, mean = change.min(axis=1), change.mean(axis=1)
+        x = t_ms if a.x == "time" else step
+        (line,) = ax.plot(x, lo, label=label)
+        ax.plot(x, mean, ls=":", color=line.get_color())
+        rows += [f"{label},{s:.0f},{t:.6g},{x:.5g},{m:.5g}" for s, t, x, m in zip(step, t_ms, lo, mean)]
+    ax.axhline(-1, color="grey", lw=0.8, ls="--")
+    ax.set_xlabel("time [ms]" if a.x == "time" else "time step")
+    ax.set_ylabel("cell volume change [%]")
+    ax.set_title("solid: the smallest cell, dotted: the mean over the cells", fontsize=9)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(a.png, dpi=120)
+    if a.csv:
+        with open(a.csv, "w") as out:
+            out.write("\n".join(rows) + "\n")
+
+
+if __name__ == "__main__":
+    main()
