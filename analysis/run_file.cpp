@@ -138,7 +138,8 @@ Run read_merged_file(const H5File& f, const std::string& path) {
   for (const std::string& g : groups) {
     parts.push_back(read_cells_group(f, path, g));
     // merge_runs names the parts by their files: here the group says which part disagrees.
-    parts.back().files = {path + " " + g};
+    parts.back().files = {path};
+    parts.back().files.back().append(" ").append(g);
   }
   Run r = merge_runs(std::move(parts));
   r.files = {path};

@@ -7,6 +7,8 @@
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
 
 #include "fluid/coupled_main.hpp"
 #include "fluid/fluid_run.hpp"
@@ -14,7 +16,7 @@
 #include "shared/log.hpp"
 #include "shared/scene.hpp"
 
-int main(int argc, char** argv) {
+static int run_main(int argc, char** argv) {
   CLI::App app{"dld-fluid: lattice-Boltzmann flow through one DLD unit cell"};
   std::string scene_path;
   std::int64_t steps = -1;
@@ -83,6 +85,15 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::exception& e) {
     fmt::print(stderr, "error: {}\n", e.what());
+    return 1;
+  }
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run_main(argc, argv);
+  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
+    std::fprintf(stderr, "dld-fluid: error: %s\n", e.what());
     return 1;
   }
 }

@@ -43,10 +43,12 @@ double BendingModel::energy(const Eigen::Ref<const Points>& x) const {
   return kSqrt3 * p_.kappa_b * en;
 }
 
+// Eigen::Ref by value is Eigen's idiom for a writable view (cheap to copy into NodeGather::add).
+// NOLINTNEXTLINE(performance-unnecessary-value-param)
 double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const {
   const int n = static_cast<int>(hinges_.size());
   static thread_local Eigen::Matrix3Xd scratch;  // per calling thread, shared by the loop
-  scratch.resize(3, 4 * n);
+  scratch.resize(3, 4 * Eigen::Index{n});
   Eigen::Matrix3Xd& slot = scratch;
   double en = 0.0;
 #pragma omp parallel for reduction(+ : en) schedule(static) if (n > 8192)
@@ -67,10 +69,11 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
     const Eigen::Vector3d u1 = (scale / n1.squaredNorm()) * n1,
                           u2 = (scale / n2.squaredNorm()) * n2;
     const double pc = ca.dot(e) * inv_le, pd = da.dot(e) * inv_le;
-    slot.col(4 * k) = -((pc - le) * u1 + (pd - le) * u2);
-    slot.col(4 * k + 1) = pc * u1 + pd * u2;
-    slot.col(4 * k + 2) = -le * u1;
-    slot.col(4 * k + 3) = -le * u2;
+    const Eigen::Index base = 4 * Eigen::Index{k};
+    slot.col(base) = -((pc - le) * u1 + (pd - le) * u2);
+    slot.col(base + 1) = pc * u1 + pd * u2;
+    slot.col(base + 2) = -le * u1;
+    slot.col(base + 3) = -le * u2;
   }
   gather_.add(slot, f);
   return kSqrt3 * p_.kappa_b * en;

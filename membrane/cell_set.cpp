@@ -42,7 +42,7 @@ double CellSet::compute_forces(Points& f) const {
   // Cells in parallel; each writes only its own columns of f.
 #pragma omp parallel for reduction(+ : e) schedule(dynamic) if (cells_ > 1)
   for (int k = 0; k < cells_; ++k)
-    e += mechanics_.add_forces(cell_positions(k), f.middleCols(k * n, n));
+    e += mechanics_.add_forces(cell_positions(k), f.middleCols(Eigen::Index{k} * n, n));
   if (contact_) e += contact_->add_forces(x_, n, f);
   return e;
 }

@@ -35,7 +35,9 @@ class CellSet {
   /// All node positions [lattice lengths]; unwrapped (a cell stays in one piece across the box).
   const Points& positions() const { return x_; }
   Points& positions() { return x_; }
-  auto cell_positions(int k) const { return x_.middleCols(k * nodes_per_cell(), nodes_per_cell()); }
+  auto cell_positions(int k) const {
+    return x_.middleCols(Eigen::Index{k} * nodes_per_cell(), nodes_per_cell());
+  }
 
   /// Membrane plus contact forces on every node [lattice force]; f is resized. Returns the total
   /// energy [lattice energy].

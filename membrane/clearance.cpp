@@ -30,7 +30,7 @@ Clearances clearances(const Points& x, int n, const DldCell& box, double cap) {
   }
   std::vector<Box3> bounds(cells);
   for (int k = 0; k < cells; ++k) {
-    const auto xk = x.middleCols(k * n, n);
+    const auto xk = x.middleCols(Eigen::Index{k} * n, n);
     bounds[k] = {xk.rowwise().minCoeff(), xk.rowwise().maxCoeff()};
   }
   // Images of cell l: shifted periodic x (one column either way moves y by +-d), periodic y.
@@ -59,7 +59,7 @@ int nodes_inside_other_cells(const Points& x, const std::vector<Face>& faces, in
   const int cells = static_cast<int>(x.cols()) / n;
   std::vector<Box3> bounds(cells);
   for (int k = 0; k < cells; ++k) {
-    const auto xk = x.middleCols(k * n, n);
+    const auto xk = x.middleCols(Eigen::Index{k} * n, n);
     bounds[k] = {xk.rowwise().minCoeff(), xk.rowwise().maxCoeff()};
   }
   // Solid angle of every face of cell l seen from p (Van Oosterom & Strackee 1983), summed: 4 pi
@@ -92,8 +92,8 @@ int nodes_inside_other_cells(const Points& x, const std::vector<Face>& faces, in
 }
 
 void fold_cells_into_box(Points& x, int n, const DldCell& box) {
-  for (int k = 0; k * n < x.cols(); ++k) {
-    auto xk = x.middleCols(k * n, n);
+  for (int k = 0; Eigen::Index{k} * n < x.cols(); ++k) {
+    auto xk = x.middleCols(Eigen::Index{k} * n, n);
     const Eigen::Vector3d c = xk.rowwise().mean();
     const Wrapped w = wrap_into_box(box, {c.x(), c.y(), c.z()});
     const Eigen::Vector3d shift(w.position[0] - c.x(), w.position[1] - c.y(), 0.0);

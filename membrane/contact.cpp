@@ -150,7 +150,7 @@ void Contact::build_pairs(const Points& x, int nodes_per_cell) const {
     auto& list = lists[static_cast<std::size_t>(i)];
     for (int z = std::max(0, bz - 1); z <= std::min(nbz_ - 1, bz + 1); ++z) {
       for (int y = std::max(0, by - 1); y <= std::min(nby_ - 1, by + 1); ++y) {
-        const std::size_t row = static_cast<std::size_t>((z * nby_ + y) * nbx_);
+        const auto row = (static_cast<std::size_t>(z) * nby_ + y) * nbx_;
         for (int s = bin_start_[row + static_cast<std::size_t>(x_lo)];
              s < bin_start_[row + static_cast<std::size_t>(x_hi) + 1]; ++s) {
           const Image& im = sorted_[static_cast<std::size_t>(s)];

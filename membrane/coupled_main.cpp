@@ -53,6 +53,7 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
   CellSet cells(all.reference(), all.mechanics(), all.contact());
   for (int k = first; k < last; ++k) cells.add_cell(Points(all.cell_positions(k)));
   std::vector<double> v0;
+  v0.reserve(static_cast<std::size_t>(cells.cell_count()));
   for (int k = 0; k < cells.cell_count(); ++k) v0.push_back(cells.volume(k));
 
   coupler::MembraneConfig mc;
@@ -80,6 +81,7 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
       scene.cell_um.shift, scene.name, capillary_number(scene), m.expected_mode};
   auto centroids_um = [&] {
     std::vector<Eigen::Vector3d> c;
+    c.reserve(static_cast<std::size_t>(cells.cell_count()));
     for (int k = 0; k < cells.cell_count(); ++k) c.push_back(cells.centroid(k) * dx_um);
     return c;
   };

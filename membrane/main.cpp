@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 
@@ -109,7 +110,8 @@ void run_pack(const Scene& scene, const MembraneScene& m, std::vector<int> count
     const CachedPacking p = packed_scene_cells(m, scene, count);
     CellSet cells(m.reference_lu, MembraneMechanics{});
     const int n = p.cells.nodes_per_cell;
-    for (int k = 0; k < count; ++k) cells.add_cell(Points(p.cells.positions.middleCols(k * n, n)));
+    for (int k = 0; k < count; ++k)
+      cells.add_cell(Points(p.cells.positions.middleCols(Eigen::Index{k} * n, n)));
     // Measured on the state itself, not taken from the file.
     const Clearances g = clearances(cells.positions(), n, box, box.lambda);
     const int inside = nodes_inside_other_cells(cells.positions(), m.reference_lu.faces, n, box);
@@ -124,7 +126,7 @@ void run_pack(const Scene& scene, const MembraneScene& m, std::vector<int> count
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_main(int argc, char** argv) {
   CLI::App app{"dld-membrane: red-blood-cell membranes (meshes, models, contact; standalone runs)"};
   std::string scene_path, output;
   bool verbose = false;
@@ -195,4 +197,13 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run_main(argc, argv);
+  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
+    std::fprintf(stderr, "dld-membrane: error: %s\n", e.what());
+    return 1;
+  }
 }

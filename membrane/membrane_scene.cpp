@@ -205,7 +205,7 @@ CellSet build_cells(const MembraneScene& m, const Scene& scene) {
     const CachedPacking p = packed_scene_cells(m, scene);
     const int n = p.cells.nodes_per_cell;
     for (int k = 0; k < m.pack->count; ++k)
-      cells.add_cell(Points(p.cells.positions.middleCols(k * n, n)));
+      cells.add_cell(Points(p.cells.positions.middleCols(Eigen::Index{k} * n, n)));
   }
   return cells;
 }

@@ -119,8 +119,9 @@ int relax(CellSet& cells, const DldCell& box, double target, double range, bool 
 
 double largest_tilt_deg(const Points& x, int n) {
   double tilt = 0.0;
-  for (int k = 0; k * n < x.cols(); ++k) {
-    const Points d = x.middleCols(k * n, n).colwise() - x.middleCols(k * n, n).rowwise().mean();
+  for (int k = 0; Eigen::Index{k} * n < x.cols(); ++k) {
+    const Points d = x.middleCols(Eigen::Index{k} * n, n).colwise() -
+                     x.middleCols(Eigen::Index{k} * n, n).rowwise().mean();
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(d * d.transpose());
     const double c = std::abs(eig.eigenvectors().col(0).z());  // eigenvalues ascending
     tilt = std::max(tilt, std::acos(std::min(1.0, c)) * 180.0 / M_PI);
@@ -159,7 +160,7 @@ PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackO
     TriMesh ref_s = ref;
     ref_s.nodes *= scale;
     CellSet cells(ref_s, packing_mechanics(ref_s, scale * radius), contact);
-    for (int k = 0; k < o.count; ++k) cells.add_cell(Points(x.middleCols(k * n, n)));
+    for (int k = 0; k < o.count; ++k) cells.add_cell(Points(x.middleCols(Eigen::Index{k} * n, n)));
     const bool full = scale >= 1.0;
     Clearances gaps;
     rep.iterations +=
@@ -182,7 +183,7 @@ PackedCells pack_cells(const TriMesh& reference, const DldCell& box, const PackO
     // Grow every cell about its centroid (deformed shapes included).
     const double next = std::min(1.0, scale + o.scale_step);
     for (int k = 0; k < o.count; ++k) {
-      auto xk = x.middleCols(k * n, n);
+      auto xk = x.middleCols(Eigen::Index{k} * n, n);
       const Eigen::Vector3d c = xk.rowwise().mean();
       xk = ((xk.colwise() - c) * (next / scale)).colwise() + c;
     }

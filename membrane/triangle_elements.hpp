@@ -34,8 +34,9 @@ class TriangleElements {
   TriangleElements(const TriMesh& reference, const Law& law, const char* name)
       : law_(law), tri_(triangle_references(reference, name)) {
     std::vector<int> corners;
-    for (const auto& t : tri_) { corners.insert(corners.end(), t.nodes.begin(), t.nodes.end());
-}
+    for (const auto& t : tri_) {
+      corners.insert(corners.end(), t.nodes.begin(), t.nodes.end());
+    }
     gather_ = NodeGather(corners, reference.node_count());
   }
 
@@ -54,13 +55,14 @@ class TriangleElements {
     return e;
   }
 
-  /// Adds -dE/dx to f, returns E.
+  /// Adds -dE/dx to f, returns E. (Eigen::Ref by value: Eigen's idiom for a writable view.)
+  // NOLINTNEXTLINE(performance-unnecessary-value-param)
   double add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const {
     const int n = static_cast<int>(tri_.size());
     // Scratch per calling thread (cells may be evaluated concurrently); the reference makes the
     // caller's buffer shared by the threads of the loop below.
     static thread_local Eigen::Matrix3Xd scratch;
-    scratch.resize(3, 3 * n);
+    scratch.resize(3, 3 * Eigen::Index{n});
     Eigen::Matrix3Xd& slot = scratch;
     double e = 0.0;
 #pragma omp parallel for reduction(+ : e) schedule(static) if (n > 8192)
@@ -81,9 +83,10 @@ class TriangleElements {
       const Eigen::Vector3d e2 = x.col(t.nodes[2]) - x.col(t.nodes[0]);
       const Eigen::Vector3d f1 = -2.0 * t.area0 * (g(0, 0) * e1 + g(0, 1) * e2);
       const Eigen::Vector3d f2 = -2.0 * t.area0 * (g(0, 1) * e1 + g(1, 1) * e2);
-      slot.col(3 * k) = -(f1 + f2);
-      slot.col(3 * k + 1) = f1;
-      slot.col(3 * k + 2) = f2;
+      const Eigen::Index base = 3 * Eigen::Index{k};
+      slot.col(base) = -(f1 + f2);
+      slot.col(base + 1) = f1;
+      slot.col(base + 2) = f2;
     }
     gather_.add(slot, f);
     return e;

@@ -298,7 +298,10 @@ std::vector<std::string> H5File::datasets(const std::string& group) const {
     if (kind == H5I_DATASET) {
       out.push_back(m);
     } else if (kind == H5I_GROUP) {
-      for (const std::string& d : datasets(prefix + m)) out.push_back(m + "/" + d);
+      for (const std::string& d : datasets(prefix + m)) {
+        std::string path = m;
+        out.push_back(path.append("/").append(d));
+      }
     }
   }
   return out;

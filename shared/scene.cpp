@@ -33,7 +33,7 @@ std::string fnv1a_hex(std::string_view text) {
   return fmt::format("{:016x}", h);
 }
 
-Scene read(std::shared_ptr<TomlDocument> doc, bool check_unknown, std::string_view text) {
+Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::string_view text) {
   Scene s;
   s.hash = fnv1a_hex(text);
   s.file = doc->file();

@@ -112,7 +112,8 @@ void BM_Exchange(benchmark::State& state) {
   const double bytes = static_cast<double>(kHeaderBytes * 2 + step_payload_bytes(n / 3) +
                                            velocities_payload_bytes(n / 3));
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations() * bytes));
-  state.counters["nodes"] = static_cast<double>(n / 3);
+  const std::size_t nodes = n / 3;
+  state.counters["nodes"] = static_cast<double>(nodes);
   state.counters["KB_per_step"] = bytes / 1024.0;
   state.SetLabel(std::string(transport_name(transport)) + (in_place ? " in-place" : " copying"));
   if (transport == 2 && !membrane_shared) state.SkipWithError("shared memory was not used");

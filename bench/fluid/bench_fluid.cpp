@@ -135,7 +135,8 @@ void BM_IbSpread(benchmark::State& state) {
   const auto x = marker_cells(s.lattice(), static_cast<int>(state.range(1)));
   const std::vector<double> f(x.size(), 1e-6);
   for (auto _ : state) ib.spread(x, f, s.force_field());
-  state.counters["markers"] = static_cast<double>(x.size() / 3);
+  const std::size_t markers = x.size() / 3;
+  state.counters["markers"] = static_cast<double>(markers);
 }
 BENCHMARK(BM_IbSpread)
     ->ArgsProduct({{1, 2}, {1, 17}})
@@ -152,7 +153,8 @@ void BM_IbInterpolate(benchmark::State& state) {
   s.force_field();
   s.step();
   for (auto _ : state) ib.interpolate(x, s.velocity_field(), u);
-  state.counters["markers"] = static_cast<double>(x.size() / 3);
+  const std::size_t markers = x.size() / 3;
+  state.counters["markers"] = static_cast<double>(markers);
 }
 BENCHMARK(BM_IbInterpolate)
     ->ArgsProduct({{1, 2}, {1, 17}})
@@ -177,7 +179,8 @@ void BM_IbCoupledStep(benchmark::State& state) {
     ib.spread(x, f, s.force_field());
     ib.interpolate(x, s.velocity_field(), u);
   }
-  state.counters["markers"] = static_cast<double>(x.size() / 3);
+  const std::size_t markers = x.size() / 3;
+  state.counters["markers"] = static_cast<double>(markers);
 }
 BENCHMARK(BM_IbCoupledStep)
     ->ArgsProduct({{1, 2}, {1, 17}})
@@ -197,7 +200,7 @@ void BM_ViscosityField(benchmark::State& state) {
   std::vector<double> x;
   std::vector<std::uint32_t> nodes, faces, ids;
   for (int c = 0; c < cells; ++c) {
-    const double* o = &centres[3 * 1002 * static_cast<std::size_t>(c)];
+    const double* o = &centres[std::size_t{3 * 1002} * static_cast<std::size_t>(c)];
     for (int n = 0; n < m.node_count(); ++n)
       x.insert(x.end(), {o[0] + m.nodes(0, n), o[1] + m.nodes(1, n),
                          0.5 * s.lattice().nz() + 0.35 * m.nodes(2, n)});

@@ -95,7 +95,7 @@ void BM_SuspensionForces(benchmark::State& state) {
   CellSet cells(m, MembraneMechanics({"skalak", "bending", "volume"}, std::move(models)));
   const Points x = suspension(17);
   for (int k = 0; k < 17; ++k)
-    cells.add_cell(Points(x.middleCols(k * m.node_count(), m.node_count())));
+    cells.add_cell(Points(x.middleCols(Eigen::Index{k} * m.node_count(), m.node_count())));
   Points f;
   for (auto _ : state) benchmark::DoNotOptimize(cells.compute_forces(f));
   state.SetLabel("17 cells x (skalak + bending + volume)");

@@ -14,7 +14,9 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <thread>
 
@@ -95,7 +97,7 @@ bool write_run_file(const std::vector<dld::coupler::RunPart>& parts, const std::
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_main(int argc, char** argv) {
   CLI::App app{"dld-run: one coupled run of a scene (fluid + membrane programs over ipc or tcp)"};
   std::string scene_path, membrane = "tracers";
   int tracers = 16;
@@ -311,5 +313,14 @@ int main(int argc, char** argv) {
   } catch (const dld::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 2;
+  }
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run_main(argc, argv);
+  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
+    std::fprintf(stderr, "dld-run: error: %s\n", e.what());
+    return 1;
   }
 }

@@ -10,7 +10,9 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <deque>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -91,7 +93,7 @@ int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::st
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_main(int argc, char** argv) {
   CLI::App app{"dld-sweep: the runs of a study file, K at a time, resumable"};
   std::string study_path, resolution, slurm;
   int jobs = 1, index = -1;
@@ -290,5 +292,14 @@ int main(int argc, char** argv) {
   } catch (const dld::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 2;
+  }
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run_main(argc, argv);
+  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
+    std::fprintf(stderr, "dld-sweep: error: %s\n", e.what());
+    return 1;
   }
 }

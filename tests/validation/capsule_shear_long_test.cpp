@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -64,7 +65,7 @@ TEST_P(CapsuleShearLong, SteadyDeformationMatchesRamanujanPozrikidis) {
 
 INSTANTIATE_TEST_SUITE_P(Ramanujan1998, CapsuleShearLong, ::testing::Values(0.025, 0.05, 0.1, 0.2),
                          [](const auto& p) {
-                           return "Ca" + std::to_string(static_cast<int>(p.param * 1000 + 0.5));
+                           return "Ca" + std::to_string(std::lround(p.param * 1000));
                          });
 
 // Small-deformation theory (Barthes-Biesel & Rallison 1981, as in reference/README.md):
