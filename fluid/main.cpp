@@ -7,11 +7,10 @@
 #include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
-#include <cstdio>
-#include <exception>
 
 #include "fluid/coupled_main.hpp"
 #include "fluid/fluid_run.hpp"
+#include "shared/guarded_main.hpp"
 #include "shared/input_error.hpp"
 #include "shared/log.hpp"
 #include "shared/scene.hpp"
@@ -90,10 +89,5 @@ static int run_main(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
-  try {
-    return run_main(argc, argv);
-  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
-    std::fprintf(stderr, "dld-fluid: error: %s\n", e.what());
-    return 1;
-  }
+  return dld::guarded_main("dld-fluid", run_main, argc, argv);
 }

@@ -7,7 +7,6 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <fstream>
 
@@ -16,6 +15,7 @@
 #include "membrane/membrane_scene.hpp"
 #include "membrane/mesh_quality.hpp"
 #include "membrane/packing.hpp"
+#include "shared/guarded_main.hpp"
 #include "shared/h5file.hpp"
 #include "shared/log.hpp"
 
@@ -200,10 +200,5 @@ static int run_main(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
-  try {
-    return run_main(argc, argv);
-  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
-    std::fprintf(stderr, "dld-membrane: error: %s\n", e.what());
-    return 1;
-  }
+  return dld::guarded_main("dld-membrane", run_main, argc, argv);
 }

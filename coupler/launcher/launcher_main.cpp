@@ -14,7 +14,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
@@ -22,6 +21,7 @@
 
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/run_file_merge.hpp"
+#include "shared/guarded_main.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
 #include "shared/scene.hpp"
@@ -317,10 +317,5 @@ static int run_main(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
-  try {
-    return run_main(argc, argv);
-  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
-    std::fprintf(stderr, "dld-run: error: %s\n", e.what());
-    return 1;
-  }
+  return dld::guarded_main("dld-run", run_main, argc, argv);
 }

@@ -10,9 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <deque>
-#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -21,6 +19,7 @@
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/study.hpp"
 #include "coupler/launcher/sweep_report.hpp"
+#include "shared/guarded_main.hpp"
 #include "shared/input_error.hpp"
 
 namespace {
@@ -296,10 +295,5 @@ static int run_main(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
-  try {
-    return run_main(argc, argv);
-  } catch (const std::exception& e) {  // what escapes the run's own handlers: one line, no crash
-    std::fprintf(stderr, "dld-sweep: error: %s\n", e.what());
-    return 1;
-  }
+  return dld::guarded_main("dld-sweep", run_main, argc, argv);
 }
