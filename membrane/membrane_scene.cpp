@@ -27,7 +27,9 @@ std::vector<std::string> strings(const Scene& scene, const TomlSection& s, std::
   return out;
 }
 
-double shear_modulus(const Scene& scene, const TomlSection& m, double radius_um) {
+/// kappa_s [N/m] from the one of capillary_number, kappa_s_N_per_m, shear_modulus_N_per_m given;
+/// a capillary number is turned into kappa_s at the drive p' [Pa/m].
+double shear_modulus(const Scene& scene, const TomlSection& m, double radius_um, double p) {
   const std::vector<std::string> keys{"capillary_number", "kappa_s_N_per_m",
                                       "shear_modulus_N_per_m"};
   int given = 0;
@@ -39,12 +41,24 @@ double shear_modulus(const Scene& scene, const TomlSection& m, double radius_um)
   // Skalak law in Krueger's form has shear modulus G_s = kappa_s / 3.
   if (m.has("shear_modulus_N_per_m")) return 3.0 * m.positive("shear_modulus_N_per_m");
   const double cap = m.positive("capillary_number");
-  const double p = scene.drive.pressure_gradient_Pa_per_m;
   if (!(p > 0.0))
     m.fail("capillary_number", "needs a positive drive pressure gradient (Ca = p' l r / kappa_s)");
   // SPEC section 4: Ca = p' l r / kappa_s with l = sqrt(G H).
   const double l = std::sqrt(scene.cell_um.gap() * scene.cell_um.depth) * 1e-6;
   return p * l * radius_um * 1e-6 / cap;
+}
+
+/// kappa_s of this cell in lattice units of the reference setting (SPEC 4: dx 0.4 um, tau 1,
+/// Re 0.1): the same Ca there, or the same physical kappa_s where it was given directly. Moduli
+/// given "in reference lattice units" are ratios to this, so they fix C = kappa_alpha / kappa_s
+/// whatever this scene's dx, tau or Re (SPEC section 9).
+double reference_shear_modulus_lu(const Scene& scene, const TomlSection& m, double radius_um) {
+  const double p_ref =
+      poiseuille_pressure_gradient(ReferenceSetting::kReynolds, scene.cell_um, scene.fluid);
+  const LatticeUnits ref(ReferenceSetting::kDxUm * 1e-6, ReferenceSetting::kTau,
+                         scene.fluid.viscosity_Pa_s / scene.fluid.density_kg_m3,
+                         scene.fluid.density_kg_m3);
+  return ref.modulus_lu(shear_modulus(scene, m, radius_um, p_ref));
 }
 
 }  // namespace
@@ -72,7 +86,8 @@ MembraneScene read_membrane_scene(const Scene& scene) {
   out.mesh_faces = static_cast<int>(faces);
   out.mesh_cache = m.string("mesh_cache", default_mesh_cache_dir());
 
-  out.kappa_s_N_per_m = shear_modulus(scene, m, out.shape_um.radius);
+  out.kappa_s_N_per_m =
+      shear_modulus(scene, m, out.shape_um.radius, scene.drive.pressure_gradient_Pa_per_m);
   out.kappa_s_lu = units.modulus_lu(out.kappa_s_N_per_m);
   out.radius_lu = out.shape_um.radius / dx;
 
@@ -93,15 +108,12 @@ MembraneScene read_membrane_scene(const Scene& scene) {
   }
   out.reference_lu.nodes.colwise() -= centroid(out.reference_lu.nodes);
 
-  // kappa_alpha etc. given "in lattice units of the dx = 0.4 um lattice" (SPEC section 4) are
-  // converted through that lattice's units with this scene's tau and fluid.
-  const LatticeUnits ref(0.4e-6, scene.lattice.tau,
-                         scene.fluid.viscosity_Pa_s / scene.fluid.density_kg_m3,
-                         scene.fluid.density_kg_m3);
-  const ModelContext ctx{
-      out.reference_lu,     out.kappa_s_lu,
-      out.radius_lu,        units.modulus_lu(ref.modulus_n_m(1.0)),
-      units.energy_lu(1.0), m.has("capillary_number") ? m.positive("capillary_number") : 0.0};
+  const ModelContext ctx{out.reference_lu,
+                         out.kappa_s_lu,
+                         out.radius_lu,
+                         reference_shear_modulus_lu(scene, m, out.shape_um.radius),
+                         units.energy_lu(1.0),
+                         m.has("capillary_number") ? m.positive("capillary_number") : 0.0};
   std::vector<std::string> names = strings(scene, m, "models");
   std::vector<AnyModel> models;
   for (std::size_t i = 0; i < names.size(); ++i) {

@@ -20,8 +20,11 @@ AnyModel make_skalak(const std::optional<TomlSection>& t, const ModelContext& c)
   if (ratio == ref)
     s.fail(ratio ? "area_ratio" : "area_modulus_ref_lu",
            "give exactly one of area_ratio (C = kappa_alpha/kappa_s) and area_modulus_ref_lu");
-  const double ka = ratio ? s.in_range("area_ratio", 0.0, 1e6) * c.kappa_s_lu
-                          : s.in_range("area_modulus_ref_lu", 0.0, 1e6) * c.ref_modulus_to_lu;
+  // area_modulus_ref_lu is kappa_alpha at the reference setting: it fixes C there, and every
+  // setting keeps that C (SPEC 9), so a setting never changes the cell.
+  const double C = ratio ? s.in_range("area_ratio", 0.0, 1e6)
+                         : s.in_range("area_modulus_ref_lu", 0.0, 1e6) / c.reference_kappa_s_lu;
+  const double ka = C * c.kappa_s_lu;
   return SkalakModel(c.reference, {c.kappa_s_lu, ka});
 }
 
@@ -120,8 +123,9 @@ std::string describe(const AnyModel& model) {
       [](const auto& m) -> std::string {
         using T = std::decay_t<decltype(m)>;
         if constexpr (std::is_same_v<T, SkalakModel>)
-          return fmt::format("skalak: kappa_s {:.6g}, kappa_alpha {:.6g} (lattice modulus)",
-                             m.law().p.kappa_s, m.law().p.kappa_alpha);
+          return fmt::format(
+              "skalak: kappa_s {:.6g}, kappa_alpha {:.6g} (lattice modulus), C = {:.6g}",
+              m.law().p.kappa_s, m.law().p.kappa_alpha, m.law().p.kappa_alpha / m.law().p.kappa_s);
         else if constexpr (std::is_same_v<T, NeoHookeanModel>)
           return fmt::format("neo_hookean: G_s {:.6g} (lattice modulus)", m.law().p.shear_modulus);
         else if constexpr (std::is_same_v<T, BendingModel>)

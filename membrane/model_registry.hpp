@@ -25,8 +25,9 @@ struct ModelContext {
   const TriMesh& reference;  ///< rest shape [lattice units]
   double kappa_s_lu;         ///< the cell's Skalak kappa_s [lattice modulus]
   double radius_lu;          ///< cell radius r [lattice lengths]
-  double ref_modulus_to_lu;  ///< factor: modulus in lattice units of the dx = 0.4 um reference
-                             ///< lattice (same tau and fluid) -> this lattice's units
+  /// The same cell's kappa_s in lattice units of the reference setting (SPEC 4: dx 0.4 um,
+  /// tau 1, Re 0.1; same Ca): a modulus given there is kappa_s_lu * (value / this).
+  double reference_kappa_s_lu;
   double energy_to_lu;       ///< factor: J -> lattice energy
   double capillary_number;   ///< the scene's Ca; 0 when kappa_s was given directly
 };

@@ -95,16 +95,13 @@ Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::st
     d.fail(has_re ? "reynolds" : "pressure_gradient_Pa_per_m",
            "give exactly one of drive.reynolds and drive.pressure_gradient_Pa_per_m");
   const double mu = s.fluid.viscosity_Pa_s;
-  const double nu = mu / s.fluid.density_kg_m3;
   const double h = s.cell_um.depth * 1e-6;
-  const double gap = s.cell_um.gap() * 1e-6;
   if (has_re) {
     double re = d.positive("reynolds");
     if (re > 10.0)
       d.fail("reynolds", fmt::format("expected Re <= 10 (Stokes-like flow), got {}", re));
     s.drive.reynolds = re;
-    double u = re * nu / gap;
-    s.drive.pressure_gradient_Pa_per_m = 12.0 * mu * u / (h * h);
+    s.drive.pressure_gradient_Pa_per_m = poiseuille_pressure_gradient(re, s.cell_um, s.fluid);
   } else {
     s.drive.pressure_gradient_Pa_per_m = d.number("pressure_gradient_Pa_per_m");
     if (s.drive.pressure_gradient_Pa_per_m < 0.0)
@@ -155,6 +152,13 @@ Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::st
 }
 
 }  // namespace
+
+double poiseuille_pressure_gradient(double reynolds, const DldCell& cell_um, const FluidParams& f) {
+  const double nu = f.viscosity_Pa_s / f.density_kg_m3;
+  const double h = cell_um.depth * 1e-6;
+  const double u = reynolds * nu / (cell_um.gap() * 1e-6);
+  return 12.0 * f.viscosity_Pa_s * u / (h * h);
+}
 
 LatticeUnits Scene::units() const {
   return LatticeUnits(lattice.dx_um * 1e-6, lattice.tau, fluid.viscosity_Pa_s / fluid.density_kg_m3,

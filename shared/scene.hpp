@@ -95,6 +95,19 @@ struct Scene {
   std::string describe() const;
 };
 
+/// The reference setting of SPEC section 4 (dx = 0.4 um, tau = 1, Re = 0.1): moduli given "in
+/// lattice units of the reference setting" (kappa_alpha = 0.5) are converted through it, so that
+/// every other setting simulates the same dimensionless cell (SPEC section 9).
+struct ReferenceSetting {
+  static constexpr double kDxUm = 0.4;
+  static constexpr double kTau = 1.0;
+  static constexpr double kReynolds = 0.1;
+};
+
+/// Drive of a target Reynolds number Re = U G / nu by the plane-Poiseuille estimate
+/// U = p' H^2 / (12 mu) [Pa/m] (the pillar slows the flow: the run reports the Re it reached).
+double poiseuille_pressure_gradient(double reynolds, const DldCell& cell_um, const FluidParams& f);
+
 /// Tables that the membrane program reads and checks itself.
 inline const std::vector<std::string>& tables_owned_elsewhere() {
   static const std::vector<std::string> t{"membrane", "cells"};

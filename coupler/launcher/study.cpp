@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <set>
 #include <sstream>
 
@@ -189,14 +190,61 @@ std::vector<StudyRun> Study::runs(const std::string& resolution) const {
   return out;
 }
 
+namespace {
+
+/// The same TOML text with every float outside quotes in its shortest form that reads back as the
+/// same double (toml++ writes either 17 digits or 6): a run's scene is exactly its study's.
+std::string shortest_floats(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  char quote = 0;
+  for (std::size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (quote) {
+      if (c == '\\' && i + 1 < text.size()) {
+        out += text.substr(i, 2), i += 2;
+        continue;
+      }
+      if (c == quote) quote = 0;
+      out += c, ++i;
+      continue;
+    }
+    if (c == '"' || c == '\'') quote = c;
+    if (c == '#') quote = '\n';  // a comment runs to the end of the line
+    const bool starts_number =
+        std::isdigit(static_cast<unsigned char>(c)) &&
+        (i == 0 || !std::isalnum(static_cast<unsigned char>(text[i - 1])) || text[i - 1] == '-');
+    if (!starts_number) {
+      out += c, ++i;
+      continue;
+    }
+    std::size_t end = i;
+    while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
+                                 text[end] == '.' || text[end] == '+' || text[end] == '-' ||
+                                 text[end] == '_'))
+      ++end;
+    const std::string token = text.substr(i, end - i);
+    const bool is_float = token.find_first_of(".eE") != std::string::npos &&
+                          token.find_first_of("xob_:") == std::string::npos;
+    std::string shortest = token;
+    if (is_float) {
+      shortest = fmt::format("{}", std::stod(token));
+      if (shortest.find_first_of(".e") == std::string::npos) shortest += ".0";
+    }
+    out += shortest;
+    i = end;
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string scene_text(const StudyRun& run) {
   std::ostringstream s;
   s << "# Written by dld-sweep for run " << run.name
     << " of its study; resuming checks that it is unchanged.\n"
-    << toml::toml_formatter(run.scene, toml::toml_formatter::default_flags |
-                                           toml::format_flags::relaxed_float_precision)
-    << "\n";
-  return s.str();
+    << toml::toml_formatter(run.scene) << "\n";
+  return shortest_floats(s.str());
 }
 
 }  // namespace dld::coupler
