@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -30,6 +31,18 @@ ImmersedBoundary::ImmersedBoundary(const Lattice& lattice, IbKernel kernel)
     const std::uint8_t* layer = solid + lattice.index(-1, -1, k);
     for (std::size_t c = 0; c < plane; ++c) column_solid_[c] |= layer[c];
   }
+  const int nx = lattice.nx(), ny = lattice.ny(), w = static_cast<int>(kernel);
+  const auto px = static_cast<std::size_t>(lattice.px());
+  block_solid_.assign(static_cast<std::size_t>(nx) * ny, 1);
+  for (int j0 = 0; j0 < ny; ++j0)
+    for (int i0 = 0; i0 + w <= nx; ++i0) {
+      std::uint8_t any = 0;
+      for (int b = 0; b < w; ++b) {
+        const auto row = static_cast<std::size_t>((j0 + b) % ny + 1) * px;
+        for (int a = 0; a < w; ++a) any |= column_solid_[row + static_cast<std::size_t>(i0 + a + 1)];
+      }
+      block_solid_[static_cast<std::size_t>(j0) * nx + i0] = any;
+    }
 }
 
 namespace {
@@ -129,6 +142,46 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
   return true;
 }
 
+template <int W>
+bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
+  const Domain& d = lattice_.domain();
+  double X = p[0], Y = p[1];
+  const double Z = p[2];
+  if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z)) return false;
+  if (d.ny < W || (!d.walls_z && d.nz < W)) return false;  // a row or layer would repeat
+  const double wraps = std::floor(X / d.nx);
+  X -= wraps * d.nx;
+  Y -= wraps * d.shift;
+  const int i0 = axis_weights<W>(kernel_, X, fp.wx);
+  if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
+  const int k0 = axis_weights<W>(kernel_, Z, fp.wz);
+  if (d.walls_z && (k0 < 0 || k0 + W > d.nz)) return false;  // a wall node in the support
+  const int j0 = axis_weights<W>(kernel_, Y, fp.wy);
+  const int jw0 = j0 >= 0 && j0 < d.ny ? j0 : ((j0 % d.ny) + d.ny) % d.ny;
+  if (block_solid_[static_cast<std::size_t>(jw0) * d.nx + i0]) return false;
+  const auto px = static_cast<std::size_t>(lattice_.px());
+  const std::size_t plane = px * static_cast<std::size_t>(lattice_.py());
+  const int kw0 = d.walls_z || (k0 >= 0 && k0 < d.nz) ? k0 : ((k0 % d.nz) + d.nz) % d.nz;
+  double sx = 0, sy = 0, sz = 0;
+  for (int a = 0; a < W; ++a) {
+    sx += fp.wx[a], sy += fp.wy[a], sz += fp.wz[a];
+    const int jw = jw0 + a < d.ny ? jw0 + a : jw0 + a - d.ny;  // y is periodic
+    const int kw = kw0 + a < d.nz || d.walls_z ? kw0 + a : kw0 + a - d.nz;
+    fp.row[a] = static_cast<std::size_t>(jw + 1) * px;
+    fp.layer[a] = static_cast<std::size_t>(kw + 1) * plane;
+  }
+  // The weights sum to one analytically; normalising as stencil() does keeps spreading
+  // conservative and interpolation a weighted mean to round-off.
+  const double inv = 1.0 / (sx * sy * sz);
+  for (double& w : fp.wx) w *= inv;
+  fp.x0 = static_cast<std::size_t>(i0 + 1);
+  return true;
+}
+
+template bool ImmersedBoundary::footprint<2>(const double*, IbFootprint<2>&) const;
+template bool ImmersedBoundary::footprint<3>(const double*, IbFootprint<3>&) const;
+template bool ImmersedBoundary::footprint<4>(const double*, IbFootprint<4>&) const;
+
 namespace {
 [[noreturn]] void no_fluid_near(std::size_t marker, const double* p) {
   throw std::runtime_error("immersed boundary: marker " + std::to_string(marker) + " at (" +
@@ -136,65 +189,154 @@ namespace {
                            std::to_string(p[2]) +
                            ") has no fluid node within its kernel (inside a pillar or a wall?)");
 }
+
+/// First x column of a marker's support after folding x into the box (may be < 0 or > nx - W:
+/// the support then crosses the shifted x face); INT_MIN for a non-finite position.
+int first_column(const double* p, int nx, int width) {
+  if (!std::isfinite(p[0])) return std::numeric_limits<int>::min();
+  const double X = p[0] - std::floor(p[0] / nx) * nx;
+  return static_cast<int>(std::floor(X - 0.5 - 0.5 * width)) + 1;
+}
+
+/// The (x, y) column of a marker's support corner in the box, j * nx + i, for sorting markers so
+/// that neighbours in memory are neighbours in the lattice; nx * ny for a non-finite position.
+std::size_t column_bin(const double* p, const Domain& d, int width) {
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1])) return static_cast<std::size_t>(d.nx) * d.ny;
+  const double wraps = std::floor(p[0] / d.nx);
+  const double X = p[0] - wraps * d.nx, Y = p[1] - wraps * d.shift;
+  const int i = std::clamp(static_cast<int>(std::floor(X - 0.5 - 0.5 * width)) + 1, 0, d.nx - 1);
+  const double y = Y - std::floor(Y / d.ny) * d.ny;
+  const int j = std::clamp(static_cast<int>(y), 0, d.ny - 1);
+  return static_cast<std::size_t>(j) * d.nx + i;
+}
 }  // namespace
 
-void ImmersedBoundary::spread(std::span<const double> positions, std::span<const double> forces,
-                              const std::array<double*, 3>& field) const {
-  assert(positions.size() == forces.size());
+void ImmersedBoundary::sort_by_column(std::span<const double> positions, int width) const {
+  const Domain& d = lattice_.domain();
+  const std::size_t markers = positions.size() / 3;
+  const std::size_t bins = static_cast<std::size_t>(d.nx) * d.ny + 1;
+  bin_.resize(markers);
+  bin_start_.assign(bins + 1, 0);
+  for (std::size_t m = 0; m < markers; ++m) {
+    bin_[m] = static_cast<std::uint32_t>(column_bin(&positions[3 * m], d, width));
+    ++bin_start_[bin_[m] + 1];
+  }
+  for (std::size_t b = 1; b <= bins; ++b) bin_start_[b] += bin_start_[b - 1];
+  by_column_.resize(markers);
+  for (std::size_t m = 0; m < markers; ++m)
+    by_column_[bin_start_[bin_[m]]++] = static_cast<std::uint32_t>(m);
+}
+
+// Slab edges b_0 = 0 < b_1 < ... < b_T = nx at about equal marker counts, at least 2W apart, so
+// that the markers inside different slabs, and those straddling different edges, never share a
+// node: each group is spread by one thread into the one field, with no copies to add up.
+void ImmersedBoundary::group_markers(std::span<const double> positions, int threads,
+                                     int width) const {
+  const int nx = lattice_.nx();
+  const std::size_t markers = positions.size() / 3;
+  std::vector<int> edge(static_cast<std::size_t>(threads) + 1, nx);
+  edge[0] = 0;
+  group_of_.resize(markers);
+  if (threads > 1) {
+    std::vector<std::size_t> below(static_cast<std::size_t>(nx) + 1, 0);
+    for (std::size_t m = 0; m < markers; ++m)
+      ++below[static_cast<std::size_t>(std::clamp(first_column(&positions[3 * m], nx, width), 0, nx - 1)) + 1];
+    for (int i = 0; i < nx; ++i) below[static_cast<std::size_t>(i) + 1] += below[static_cast<std::size_t>(i)];
+    for (int t = 1; t < threads; ++t) {
+      int b = 0;
+      while (b < nx && below[static_cast<std::size_t>(b)] * threads < markers * static_cast<std::size_t>(t)) ++b;
+      edge[static_cast<std::size_t>(t)] =
+          std::clamp(b, edge[static_cast<std::size_t>(t) - 1] + 2 * width, nx - (threads - t) * 2 * width);
+    }
+  }
+  std::vector<std::uint32_t> count(2 * static_cast<std::size_t>(threads) + 1, 0);
+  for (std::size_t m = 0; m < markers; ++m) {
+    const int i0 = first_column(&positions[3 * m], nx, width);
+    int g = threads;  // straddles x = 0 (or is not finite): the edge of slab 0
+    if (i0 >= 0 && i0 + width <= nx) {
+      int t = 0;
+      while (edge[static_cast<std::size_t>(t) + 1] <= i0) ++t;
+      g = i0 + width <= edge[static_cast<std::size_t>(t) + 1] ? t : threads + t + 1;
+    }
+    group_of_[m] = static_cast<std::uint8_t>(g);
+    ++count[static_cast<std::size_t>(g) + 1];
+  }
+  for (std::size_t g = 1; g < count.size(); ++g) count[g] += count[g - 1];
+  group_start_.assign(count.begin(), count.end());
+  order_.resize(markers);
+  // Within a group, markers in column order (sort_by_column): their supports overlap in cache.
+  sort_by_column(positions, width);
+  for (const std::uint32_t m : by_column_) order_[count[group_of_[m]]++] = m;
+}
+
+template <int W>
+void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<const double> forces,
+                                const std::array<double*, 3>& field) const {
   const std::size_t n = lattice_.padded_size();
   const std::size_t markers = positions.size() / 3;
-  // Markers of one cell share nodes: each thread spreads into a field of its own, then the
-  // fields are added up (in thread order, so a given thread count gives the same result). The
-  // per-thread fields are kept between calls and left zeroed by the reduction.
-  const int threads = omp_get_max_threads();
-  const std::size_t scratch_size = static_cast<std::size_t>(threads - 1) * 3 * n;
-  if (scratch_.size() != scratch_size) scratch_.assign(scratch_size, 0.0);
+  const int slabs = std::clamp(omp_get_max_threads(), 1, std::max(1, lattice_.nx() / (2 * W)));
+  group_markers(positions, slabs, W);
+  double* const out[3] = {field[0], field[1], field[2]};
   std::size_t bad = markers;
-#pragma omp parallel num_threads(threads) reduction(min : bad)
+#pragma omp parallel num_threads(slabs) reduction(min : bad)
   {
     for (int a = 0; a < 3; ++a) {
 #pragma omp for schedule(static) nowait
       for (std::size_t i = 0; i < n; ++i) field[a][i] = 0.0;
     }
-#pragma omp barrier
-    const int t = omp_get_thread_num();
-    double* own[3];
-    for (int a = 0; a < 3; ++a)
-      own[a] = t == 0 ? field[a] : scratch_.data() + (static_cast<std::size_t>(t - 1) * 3 + a) * n;
+    const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    IbFootprint<W> fp;
     IbStencil s;
-#pragma omp for schedule(static)
-    for (std::size_t m = 0; m < markers; ++m) {
-      if (!stencil(&positions[3 * m], s)) {
-        bad = std::min(bad, m);
-        continue;
-      }
-      for (int q = 0; q < s.count; ++q)
-        for (int a = 0; a < 3; ++a) own[a][s.node[q]] += s.weight[q] * forces[3 * m + a];
-    }
-    // (the loop's implicit barrier: every thread's field is complete)
-    for (int u = 1; u < threads; ++u)
-      for (int a = 0; a < 3; ++a) {
-        double* other = scratch_.data() + (static_cast<std::size_t>(u - 1) * 3 + a) * n;
-#pragma omp for schedule(static) nowait
-        for (std::size_t i = 0; i < n; ++i) {
-          field[a][i] += other[i];
-          other[i] = 0.0;
+    // Phase 0: the markers inside each slab; phase 1: those straddling each slab's lower edge.
+    for (int phase = 0; phase < 2; ++phase) {
+#pragma omp barrier
+      for (int g = phase * slabs + t; g < (phase + 1) * slabs; g += nt) {
+        for (std::uint32_t q = group_start_[static_cast<std::size_t>(g)];
+             q < group_start_[static_cast<std::size_t>(g) + 1]; ++q) {
+          const std::size_t m = order_[q];
+          if (footprint<W>(&positions[3 * m], fp)) {
+            spread_footprint(fp, &forces[3 * m], out);
+          } else if (std::isfinite(positions[3 * m]) && stencil(&positions[3 * m], s)) {
+            for (int k = 0; k < s.count; ++k)
+              for (int a = 0; a < 3; ++a) out[a][s.node[k]] += s.weight[k] * forces[3 * m + a];
+          } else {
+            bad = std::min(bad, m);
+          }
         }
       }
+    }
   }
   if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
 }
 
-void ImmersedBoundary::interpolate(std::span<const double> positions,
-                                   const std::array<const double*, 3>& velocity,
-                                   std::span<double> out) const {
-  assert(positions.size() == out.size());
+void ImmersedBoundary::spread(std::span<const double> positions, std::span<const double> forces,
+                              const std::array<double*, 3>& field) const {
+  assert(positions.size() == forces.size());
+  switch (kernel_) {
+    case IbKernel::kPeskin2: return spread_w<2>(positions, forces, field);
+    case IbKernel::kPeskin3: return spread_w<3>(positions, forces, field);
+    case IbKernel::kPeskin4: return spread_w<4>(positions, forces, field);
+  }
+}
+
+template <int W>
+void ImmersedBoundary::interpolate_w(std::span<const double> positions,
+                                     const std::array<const double*, 3>& velocity,
+                                     std::span<double> out) const {
   const std::size_t markers = positions.size() / 3;
+  const double* const v[3] = {velocity[0], velocity[1], velocity[2]};
   std::size_t bad = markers;  // first marker without fluid around it, if any
+  sort_by_column(positions, W);
 #pragma omp parallel for schedule(static) reduction(min : bad)
-  for (std::size_t m = 0; m < markers; ++m) {
+  for (std::size_t q = 0; q < markers; ++q) {
+    const std::size_t m = by_column_[q];
+    IbFootprint<W> fp;
+    if (footprint<W>(&positions[3 * m], fp)) {
+      interpolate_footprint(fp, v, &out[3 * m]);
+      continue;
+    }
     IbStencil s;
-    if (!stencil(&positions[3 * m], s)) {
+    if (!std::isfinite(positions[3 * m]) || !stencil(&positions[3 * m], s)) {
       bad = std::min(bad, m);
       continue;
     }
@@ -204,6 +346,17 @@ void ImmersedBoundary::interpolate(std::span<const double> positions,
     for (int a = 0; a < 3; ++a) out[3 * m + a] = u[a];
   }
   if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
+}
+
+void ImmersedBoundary::interpolate(std::span<const double> positions,
+                                   const std::array<const double*, 3>& velocity,
+                                   std::span<double> out) const {
+  assert(positions.size() == out.size());
+  switch (kernel_) {
+    case IbKernel::kPeskin2: return interpolate_w<2>(positions, velocity, out);
+    case IbKernel::kPeskin3: return interpolate_w<3>(positions, velocity, out);
+    case IbKernel::kPeskin4: return interpolate_w<4>(positions, velocity, out);
+  }
 }
 
 }  // namespace dld::fluid

@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "fluid/ib_footprint.hpp"
 #include "fluid/ib_kernel.hpp"
 #include "fluid/lattice.hpp"
 
@@ -47,13 +48,39 @@ class ImmersedBoundary {
   void interpolate(std::span<const double> positions, const std::array<const double*, 3>& velocity,
                    std::span<double> out) const;
 
+  /// The separable footprint of a marker (fluid/ib_footprint.hpp) with W = the kernel's width;
+  /// false when the marker needs stencil() instead: its support crosses the shifted x face or a
+  /// z wall, or reaches a solid node. Both give the same weights up to round-off.
+  template <int W>
+  bool footprint(const double* p, IbFootprint<W>& fp) const;
+
  private:
+  template <int W>
+  void spread_w(std::span<const double> positions, std::span<const double> forces,
+                const std::array<double*, 3>& field) const;
+  template <int W>
+  void interpolate_w(std::span<const double> positions,
+                     const std::array<const double*, 3>& velocity, std::span<double> out) const;
+  /// Splits the markers among `threads` x slabs for spreading without write conflicts: fills
+  /// order_ (marker indices, group after group) and group_start_ (2 threads + 1 entries).
+  void group_markers(std::span<const double> positions, int threads, int width) const;
+  /// Fills by_column_: the markers sorted by the (x, y) column of their support (counting sort).
+  void sort_by_column(std::span<const double> positions, int width) const;
+
   const Lattice& lattice_;
   IbKernel kernel_;
   /// Per (i, j) column of the padded x-y plane (index (j + 1) * px + i + 1): 1 if any node of the
   /// column is solid, so stencil() checks single nodes only in columns that touch a solid.
   std::vector<std::uint8_t> column_solid_;
-  mutable std::vector<double> scratch_;  ///< per-thread force fields of spread()
+  /// Per (j0, i0) of the interior x range, j0 + W rows wrapped in y: 1 if any of the W x W
+  /// columns from (i0, j0) touches a solid (index j0 * nx + i0; W = the kernel's width).
+  std::vector<std::uint8_t> block_solid_;
+  // Spreading's grouping, kept between calls: groups 0..T-1 are the markers inside x slab t,
+  // groups T..2T-1 those whose support straddles the slab's lower edge (slab 0: the x face).
+  mutable std::vector<std::uint32_t> order_;
+  mutable std::vector<std::uint32_t> group_start_;
+  mutable std::vector<std::uint8_t> group_of_;
+  mutable std::vector<std::uint32_t> by_column_, bin_, bin_start_;
 };
 
 }  // namespace dld::fluid

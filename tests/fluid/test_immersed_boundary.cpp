@@ -228,6 +228,97 @@ TEST(ImmersedBoundary, SpreadingWithTwoThreadsEqualsOneThread) {
   EXPECT_LT(diff, 1e-14 * size);
 }
 
+/// Markers anywhere outside the pillar of test_domain(shift): across both faces, by the walls.
+std::vector<double> markers_everywhere(const Lattice& L, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> ux(-30.0, 50.0), uy(-25.0, 45.0), uz(0.3, 9.7);
+  std::vector<double> pos;
+  while (pos.size() < 3 * static_cast<std::size_t>(count)) {
+    const double p[3] = {ux(rng), uy(rng), uz(rng)};
+    const double x = std::fmod(std::fmod(p[0], 24.0) + 24.0, 24.0);
+    const double y = p[1] - std::floor(p[0] / 24.0) * L.domain().shift;
+    if (!L.domain().in_pillar(x, y)) pos.insert(pos.end(), p, p + 3);
+  }
+  return pos;
+}
+
+template <int W>
+void expect_footprint_is_stencil(const Lattice& L, IbKernel k, const std::vector<double>& pos) {
+  const ImmersedBoundary ib(L, k);
+  int separable = 0, listed = 0;
+  for (std::size_t m = 0; m < pos.size() / 3; ++m) {
+    IbFootprint<W> fp;
+    IbStencil s;
+    ASSERT_TRUE(ib.stencil(&pos[3 * m], s));
+    if (!ib.footprint<W>(&pos[3 * m], fp)) {
+      ++listed;
+      continue;
+    }
+    ++separable;
+    ASSERT_EQ(s.count, W * W * W) << "a separable marker keeps every node of its support";
+    for (int c = 0, q = 0; c < W; ++c)
+      for (int b = 0; b < W; ++b)
+        for (int a = 0; a < W; ++a, ++q) {
+          const std::size_t node = fp.layer[c] + fp.row[b] + fp.x0 + a;
+          const double w = fp.wx[a] * fp.wy[b] * fp.wz[c];
+          int found = -1;
+          for (int r = 0; r < s.count; ++r)
+            if (s.node[r] == node) found = r;
+          ASSERT_GE(found, 0) << "node " << node << " of marker " << m;
+          EXPECT_NEAR(w, s.weight[found], 1e-15) << W << "-point, marker " << m;
+        }
+  }
+  EXPECT_GT(separable, 100) << W << "-point";
+  EXPECT_GT(listed, 10) << W << "-point: markers by the pillar, the walls and the x face";
+}
+
+TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
+  const Lattice L(test_domain(3.4));
+  const auto pos = markers_everywhere(L, 1000, 11);
+  expect_footprint_is_stencil<2>(L, IbKernel::kPeskin2, pos);
+  expect_footprint_is_stencil<3>(L, IbKernel::kPeskin3, pos);
+  expect_footprint_is_stencil<4>(L, IbKernel::kPeskin4, pos);
+}
+
+// spread() and interpolate() (separable footprints, x slabs per thread) against the plain sums
+// over stencil()'s node lists, for 1 and 2 threads: equal to round-off.
+TEST(ImmersedBoundary, SpreadAndInterpolateEqualTheNodeListSums) {
+  const Lattice L(test_domain(3.4));
+  const std::size_t n = L.padded_size();
+  const auto pos = markers_everywhere(L, 2000, 5);
+  std::vector<double> frc(pos.size()), vel(3 * n);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double& f : frc) f = u(rng);
+  for (double& v : vel) v = u(rng);
+  for (IbKernel k : kKernels) {
+    const ImmersedBoundary ib(L, k);
+    std::vector<double> want(3 * n, 0.0), want_u(pos.size(), 0.0);
+    for (std::size_t m = 0; m < pos.size() / 3; ++m) {
+      IbStencil s;
+      ASSERT_TRUE(ib.stencil(&pos[3 * m], s));
+      for (int q = 0; q < s.count; ++q)
+        for (int a = 0; a < 3; ++a) {
+          want[a * n + s.node[q]] += s.weight[q] * frc[3 * m + a];
+          want_u[3 * m + a] += s.weight[q] * vel[a * n + s.node[q]];
+        }
+    }
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      std::vector<double> got(3 * n, 7.0), got_u(pos.size());
+      ib.spread(pos, frc, {got.data(), got.data() + n, got.data() + 2 * n});
+      ib.interpolate(pos, {vel.data(), vel.data() + n, vel.data() + 2 * n}, got_u);
+      double df = 0, du = 0;
+      for (std::size_t i = 0; i < got.size(); ++i) df = std::max(df, std::abs(got[i] - want[i]));
+      for (std::size_t i = 0; i < got_u.size(); ++i)
+        du = std::max(du, std::abs(got_u[i] - want_u[i]));
+      EXPECT_LT(df, 1e-14) << static_cast<int>(k) << "-point, " << threads << " threads";
+      EXPECT_LT(du, 1e-14) << static_cast<int>(k) << "-point, " << threads << " threads";
+    }
+    omp_set_num_threads(1);
+  }
+}
+
 TEST(ImmersedBoundary, MarkerInsideThePillarIsReported) {
   const Lattice L(test_domain(0.0));
   const ImmersedBoundary ib(L, IbKernel::kPeskin2);

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT
+// The separable footprint of an immersed-boundary marker (Peskin 2002: the kernel is a product of
+// one-dimensional weights): W x-weights, W y-rows and W z-layers, no list of W^3 nodes. A marker
+// whose support lies in one box, away from every solid node and z wall, has weights that need
+// no renormalisation beyond their product's sum, and its W^2 rows of W consecutive x nodes are
+// read and written as short vectors. Other markers (near the pillar, a wall or the shifted x face)
+// take ImmersedBoundary::stencil(). Lattice units; node (i, j, k) at (i + 1/2, j + 1/2, k + 1/2).
+#pragma once
+#include <cmath>
+#include <cstddef>
+
+#include "fluid/ib_kernel.hpp"
+
+namespace dld::fluid {
+
+template <int W>
+struct IbFootprint {
+  double wx[W], wy[W], wz[W];  ///< wx carries the normalisation: sum of wx wy wz products = 1
+  std::size_t row[W];          ///< padded offset of each y row within a layer, (j + 1) px
+  std::size_t layer[W];        ///< padded offset of each z layer, (k + 1) px py
+  std::size_t x0;              ///< padded x offset of the first column, i0 + 1
+};
+
+namespace detail {
+using V4 = double __attribute__((vector_size(32)));  // 4 consecutive x nodes
+inline V4 load4(const double* p) {
+  V4 v;
+  __builtin_memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store4(double* p, V4 v) { __builtin_memcpy(p, &v, sizeof v); }
+}  // namespace detail
+
+/// Weights of the W nodes a..a+W-1 around coordinate `c` on one axis (the first node is
+/// floor(c - 1/2 - h) + 1), into w; returns that first node.
+template <int W>
+inline int axis_weights(IbKernel kernel, double c, double* w) {
+  const int first = static_cast<int>(std::floor(c - 0.5 - 0.5 * W)) + 1;
+  if constexpr (W == 4) {
+    if (kernel == IbKernel::kPeskin4) {
+      // All four weights share one square root: with s = c - 1/2 - (first + 1) in [0, 1), the
+      // distances are 1 + s, s, 1 - s, 2 - s and 1 + 4 s - 4 s^2 is the radicand of each.
+      const double s = c - 0.5 - (first + 1);
+      const double q = std::sqrt(1.0 + 4.0 * s - 4.0 * s * s);
+      w[0] = (3.0 - 2.0 * s - q) * 0.125;
+      w[1] = (3.0 - 2.0 * s + q) * 0.125;
+      w[2] = (1.0 + 2.0 * s + q) * 0.125;
+      w[3] = (1.0 + 2.0 * s - q) * 0.125;
+      return first;
+    }
+  }
+  for (int a = 0; a < W; ++a) w[a] = phi(kernel, first + a + 0.5 - c);
+  return first;
+}
+
+/// Adds force f (3 components) times each node's weight to the field (three padded arrays).
+template <int W>
+inline void spread_footprint(const IbFootprint<W>& p, const double* f, double* const field[3]) {
+  if constexpr (W == 4) {
+    using detail::V4;
+    const V4 wx = detail::load4(p.wx);
+    const V4 g0 = wx * f[0], g1 = wx * f[1], g2 = wx * f[2];
+    for (int c = 0; c < 4; ++c)
+      for (int b = 0; b < 4; ++b) {
+        const double w = p.wz[c] * p.wy[b];
+        const std::size_t n = p.layer[c] + p.row[b] + p.x0;
+        detail::store4(field[0] + n, detail::load4(field[0] + n) + w * g0);
+        detail::store4(field[1] + n, detail::load4(field[1] + n) + w * g1);
+        detail::store4(field[2] + n, detail::load4(field[2] + n) + w * g2);
+      }
+    return;
+  }
+  for (int c = 0; c < W; ++c)
+    for (int b = 0; b < W; ++b) {
+      const double w = p.wz[c] * p.wy[b];
+      const std::size_t n = p.layer[c] + p.row[b] + p.x0;
+      const double g0 = w * f[0], g1 = w * f[1], g2 = w * f[2];
+      double* __restrict f0 = field[0] + n;
+      double* __restrict f1 = field[1] + n;
+      double* __restrict f2 = field[2] + n;
+      for (int a = 0; a < W; ++a) {
+        f0[a] += p.wx[a] * g0;
+        f1[a] += p.wx[a] * g1;
+        f2[a] += p.wx[a] * g2;
+      }
+    }
+}
+
+
+/// The weighted mean of the velocity arrays over the footprint, into u (3 components).
+template <int W>
+inline void interpolate_footprint(const IbFootprint<W>& p, const double* const v[3], double* u) {
+  if constexpr (W == 4) {
+    // Each of the 16 rows is one 4-wide load per component; the x weights come last.
+    using detail::V4;
+    V4 a0 = {0, 0, 0, 0}, a1 = a0, a2 = a0;
+    for (int c = 0; c < 4; ++c)
+      for (int b = 0; b < 4; ++b) {
+        const double w = p.wz[c] * p.wy[b];
+        const std::size_t n = p.layer[c] + p.row[b] + p.x0;
+        a0 += w * detail::load4(v[0] + n);
+        a1 += w * detail::load4(v[1] + n);
+        a2 += w * detail::load4(v[2] + n);
+      }
+    const V4 wx = detail::load4(p.wx);
+    a0 *= wx, a1 *= wx, a2 *= wx;
+    u[0] = (a0[0] + a0[1]) + (a0[2] + a0[3]);
+    u[1] = (a1[0] + a1[1]) + (a1[2] + a1[3]);
+    u[2] = (a2[0] + a2[1]) + (a2[2] + a2[3]);
+    return;
+  }
+  double acc[3][W] = {};
+  for (int c = 0; c < W; ++c)
+    for (int b = 0; b < W; ++b) {
+      const double w = p.wz[c] * p.wy[b];
+      const std::size_t n = p.layer[c] + p.row[b] + p.x0;
+      for (int a = 0; a < W; ++a) {
+        acc[0][a] += w * v[0][n + a];
+        acc[1][a] += w * v[1][n + a];
+        acc[2][a] += w * v[2][n + a];
+      }
+    }
+  for (int d = 0; d < 3; ++d) {
+    double s = 0.0;
+    for (int a = 0; a < W; ++a) s += p.wx[a] * acc[d][a];
+    u[d] = s;
+  }
+}
+
+}  // namespace dld::fluid
