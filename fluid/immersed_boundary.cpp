@@ -154,8 +154,20 @@ bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
   Y -= wraps * d.shift;
   const int i0 = axis_weights<W>(kernel_, X, fp.wx);
   if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
-  const int k0 = axis_weights<W>(kernel_, Z, fp.wz);
-  if (d.walls_z && (k0 < 0 || k0 + W > d.nz)) return false;  // a wall node in the support
+  int k0 = axis_weights<W>(kernel_, Z, fp.wz);
+  if (d.walls_z && (k0 < 0 || k0 + W > d.nz)) {
+    // Wall layers leave the support (stencil() drops them): still separable, with those z
+    // weights zero and the remaining layers renormalised. Their slots point at fluid layers.
+    if (d.nz < W) return false;
+    const int shift = k0 < 0 ? -k0 : d.nz - W - k0;  // move the window inside [0, nz)
+    double w[W];
+    for (int c = 0; c < W; ++c) {
+      const int from = c + shift;  // the original slot of the layer now in slot c
+      w[c] = from >= 0 && from < W ? fp.wz[from] : 0.0;
+    }
+    for (int c = 0; c < W; ++c) fp.wz[c] = w[c];
+    k0 += shift;
+  }
   const int j0 = axis_weights<W>(kernel_, Y, fp.wy);
   const int jw0 = j0 >= 0 && j0 < d.ny ? j0 : ((j0 % d.ny) + d.ny) % d.ny;
   if (block_solid_[static_cast<std::size_t>(jw0) * d.nx + i0]) return false;
@@ -276,6 +288,11 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
   const std::size_t markers = positions.size() / 3;
   const int slabs = std::clamp(omp_get_max_threads(), 1, std::max(1, lattice_.nx() / (2 * W)));
   group_markers(positions, slabs, W);
+  constexpr bool keep = W == 4;  // the default kernel keeps its footprints for interpolation
+  if (keep) {
+    spread_footprints_.resize(markers);
+    spread_separable_.resize(markers);
+  }
   double* const out[3] = {field[0], field[1], field[2]};
   std::size_t bad = markers;
 #pragma omp parallel num_threads(slabs) reduction(min : bad)
@@ -294,7 +311,12 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
         for (std::uint32_t q = group_start_[static_cast<std::size_t>(g)];
              q < group_start_[static_cast<std::size_t>(g) + 1]; ++q) {
           const std::size_t m = order_[q];
-          if (footprint<W>(&positions[3 * m], fp)) {
+          const bool separable = footprint<W>(&positions[3 * m], fp);
+          if constexpr (keep) {
+            spread_separable_[q] = separable ? 1 : 0;
+            if (separable) spread_footprints_[q] = fp;
+          }
+          if (separable) {
             spread_footprint(fp, &forces[3 * m], out);
           } else if (std::isfinite(positions[3 * m]) && stencil(&positions[3 * m], s)) {
             for (int k = 0; k < s.count; ++k)
@@ -307,6 +329,7 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
     }
   }
   if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
+  if (keep) spread_positions_.assign(positions.begin(), positions.end());
 }
 
 void ImmersedBoundary::spread(std::span<const double> positions, std::span<const double> forces,
@@ -326,12 +349,24 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
   const std::size_t markers = positions.size() / 3;
   const double* const v[3] = {velocity[0], velocity[1], velocity[2]};
   std::size_t bad = markers;  // first marker without fluid around it, if any
-  sort_by_column(positions, W);
+  // At the positions of the last spread: its footprints, in its order (spatially sorted too).
+  const bool kept = W == 4 && positions.size() == spread_positions_.size() &&
+                    std::equal(positions.begin(), positions.end(), spread_positions_.begin());
+  if (!kept) sort_by_column(positions, W);
+  const std::vector<std::uint32_t>& order = kept ? order_ : by_column_;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (std::size_t q = 0; q < markers; ++q) {
-    const std::size_t m = by_column_[q];
+    const std::size_t m = order[q];
+    if constexpr (W == 4) {
+      if (kept) {
+        if (spread_separable_[q]) {
+          interpolate_footprint(spread_footprints_[q], v, &out[3 * m]);
+          continue;
+        }
+      }
+    }
     IbFootprint<W> fp;
-    if (footprint<W>(&positions[3 * m], fp)) {
+    if (!kept && footprint<W>(&positions[3 * m], fp)) {
       interpolate_footprint(fp, v, &out[3 * m]);
       continue;
     }

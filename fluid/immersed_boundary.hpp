@@ -81,6 +81,11 @@ class ImmersedBoundary {
   mutable std::vector<std::uint32_t> group_start_;
   mutable std::vector<std::uint8_t> group_of_;
   mutable std::vector<std::uint32_t> by_column_, bin_, bin_start_;
+  // The 4-point footprints of the last spread, in order_; interpolation at the same positions
+  // (a coupled step spreads and interpolates at one set) reads them instead of recomputing.
+  mutable std::vector<IbFootprint<4>> spread_footprints_;
+  mutable std::vector<std::uint8_t> spread_separable_;
+  mutable std::vector<double> spread_positions_;
 };
 
 }  // namespace dld::fluid

@@ -255,18 +255,21 @@ void expect_footprint_is_stencil(const Lattice& L, IbKernel k, const std::vector
       continue;
     }
     ++separable;
-    ASSERT_EQ(s.count, W * W * W) << "a separable marker keeps every node of its support";
-    for (int c = 0, q = 0; c < W; ++c)
+    int weighted = 0;  // z layers beyond a wall have weight zero in the footprint
+    for (int c = 0; c < W; ++c)
       for (int b = 0; b < W; ++b)
-        for (int a = 0; a < W; ++a, ++q) {
+        for (int a = 0; a < W; ++a) {
           const std::size_t node = fp.layer[c] + fp.row[b] + fp.x0 + a;
           const double w = fp.wx[a] * fp.wy[b] * fp.wz[c];
+          if (w == 0.0) continue;
+          ++weighted;
           int found = -1;
           for (int r = 0; r < s.count; ++r)
             if (s.node[r] == node) found = r;
           ASSERT_GE(found, 0) << "node " << node << " of marker " << m;
           EXPECT_NEAR(w, s.weight[found], 1e-15) << W << "-point, marker " << m;
         }
+    EXPECT_EQ(weighted, s.count) << "the footprint's nodes are the stencil's, marker " << m;
   }
   EXPECT_GT(separable, 100) << W << "-point";
   EXPECT_GT(listed, 10) << W << "-point: markers by the pillar, the walls and the x face";
