@@ -28,7 +28,9 @@ inline V4 load4(const double* p) {
   __builtin_memcpy(&v, p, sizeof v);
   return v;
 }
-inline void store4(double* p, V4 v) { __builtin_memcpy(p, &v, sizeof v); }
+inline void store4(double* p, V4 v) {
+  __builtin_memcpy(p, &v, sizeof v);
+}
 }  // namespace detail
 
 /// Weights of the W nodes a..a+W-1 around coordinate `c` on one axis (the first node is
@@ -85,7 +87,6 @@ inline void spread_footprint(const IbFootprint<W>& p, const double* f, double* c
       }
     }
 }
-
 
 /// The weighted mean of the velocity arrays over the footprint, into u (3 components).
 template <int W>

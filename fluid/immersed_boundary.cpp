@@ -39,7 +39,8 @@ ImmersedBoundary::ImmersedBoundary(const Lattice& lattice, IbKernel kernel)
       std::uint8_t any = 0;
       for (int b = 0; b < w; ++b) {
         const auto row = static_cast<std::size_t>((j0 + b) % ny + 1) * px;
-        for (int a = 0; a < w; ++a) any |= column_solid_[row + static_cast<std::size_t>(i0 + a + 1)];
+        for (int a = 0; a < w; ++a)
+          any |= column_solid_[row + static_cast<std::size_t>(i0 + a + 1)];
       }
       block_solid_[static_cast<std::size_t>(j0) * nx + i0] = any;
     }
@@ -252,13 +253,18 @@ void ImmersedBoundary::group_markers(std::span<const double> positions, int thre
   if (threads > 1) {
     std::vector<std::size_t> below(static_cast<std::size_t>(nx) + 1, 0);
     for (std::size_t m = 0; m < markers; ++m)
-      ++below[static_cast<std::size_t>(std::clamp(first_column(&positions[3 * m], nx, width), 0, nx - 1)) + 1];
-    for (int i = 0; i < nx; ++i) below[static_cast<std::size_t>(i) + 1] += below[static_cast<std::size_t>(i)];
+      ++below[static_cast<std::size_t>(
+                  std::clamp(first_column(&positions[3 * m], nx, width), 0, nx - 1)) +
+              1];
+    for (int i = 0; i < nx; ++i)
+      below[static_cast<std::size_t>(i) + 1] += below[static_cast<std::size_t>(i)];
     for (int t = 1; t < threads; ++t) {
       int b = 0;
-      while (b < nx && below[static_cast<std::size_t>(b)] * threads < markers * static_cast<std::size_t>(t)) ++b;
-      edge[static_cast<std::size_t>(t)] =
-          std::clamp(b, edge[static_cast<std::size_t>(t) - 1] + 2 * width, nx - (threads - t) * 2 * width);
+      while (b < nx &&
+             below[static_cast<std::size_t>(b)] * threads < markers * static_cast<std::size_t>(t))
+        ++b;
+      edge[static_cast<std::size_t>(t)] = std::clamp(
+          b, edge[static_cast<std::size_t>(t) - 1] + 2 * width, nx - (threads - t) * 2 * width);
     }
   }
   std::vector<std::uint32_t> count(2 * static_cast<std::size_t>(threads) + 1, 0);
@@ -336,9 +342,12 @@ void ImmersedBoundary::spread(std::span<const double> positions, std::span<const
                               const std::array<double*, 3>& field) const {
   assert(positions.size() == forces.size());
   switch (kernel_) {
-    case IbKernel::kPeskin2: return spread_w<2>(positions, forces, field);
-    case IbKernel::kPeskin3: return spread_w<3>(positions, forces, field);
-    case IbKernel::kPeskin4: return spread_w<4>(positions, forces, field);
+    case IbKernel::kPeskin2:
+      return spread_w<2>(positions, forces, field);
+    case IbKernel::kPeskin3:
+      return spread_w<3>(positions, forces, field);
+    case IbKernel::kPeskin4:
+      return spread_w<4>(positions, forces, field);
   }
 }
 
@@ -388,9 +397,12 @@ void ImmersedBoundary::interpolate(std::span<const double> positions,
                                    std::span<double> out) const {
   assert(positions.size() == out.size());
   switch (kernel_) {
-    case IbKernel::kPeskin2: return interpolate_w<2>(positions, velocity, out);
-    case IbKernel::kPeskin3: return interpolate_w<3>(positions, velocity, out);
-    case IbKernel::kPeskin4: return interpolate_w<4>(positions, velocity, out);
+    case IbKernel::kPeskin2:
+      return interpolate_w<2>(positions, velocity, out);
+    case IbKernel::kPeskin3:
+      return interpolate_w<3>(positions, velocity, out);
+    case IbKernel::kPeskin4:
+      return interpolate_w<4>(positions, velocity, out);
   }
 }
 

@@ -42,10 +42,6 @@ bool covers(double e, bool ties) {
   return e > 0.0 || (e == 0.0 && ties);
 }
 
-int floor_div(int a, int n) {
-  return a >= 0 ? a / n : -((-a + n - 1) / n);
-}
-
 }  // namespace
 
 ViscosityContrast::ViscosityContrast(const Lattice& lattice, double tau_out, double tau_in,
@@ -139,17 +135,31 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
     w.folded[3 * m + 2] = x[3 * m + 2];
   }
   w.crossings.clear();
+  const double inv_nx = 1.0 / d.nx;
   const std::uint32_t* tri = faces_.data() + 3 * first_face_[cell];
   for (std::size_t f = 0; f < cell_faces_[cell]; ++f, tri += 3) {
     const double* v[3] = {&w.folded[3 * std::size_t{tri[0]}], &w.folded[3 * std::size_t{tri[1]}],
                           &w.folded[3 * std::size_t{tri[2]}]};
     const double xmin = std::min({v[0][0], v[1][0], v[2][0]});
     const double xmax = std::max({v[0][0], v[1][0], v[2][0]});
-    for (int box = floor_div(static_cast<int>(std::floor(xmin)), d.nx);
-         box <= floor_div(static_cast<int>(std::floor(xmax)), d.nx); ++box) {
+    // The boxes the x extent reaches, without integer divisions: a box that rounding adds or
+    // drops is met only within round-off of its edge, 1/2 away from its first column centre, so
+    // it has no crossing either way.
+    const int box_hi = static_cast<int>(std::floor(xmax * inv_nx));
+    for (int box = static_cast<int>(std::floor(xmin * inv_nx)); box <= box_hi; ++box) {
       P2 p[3];
       for (int q = 0; q < 3; ++q) {
         p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
+      }
+      const int i0 = std::max(0, static_cast<int>(std::ceil(xmin - box * d.nx - 0.5)));
+      const int i1 = std::min(d.nx - 1, static_cast<int>(std::floor(xmax - box * d.nx - 0.5)));
+      const double ymin = std::min({p[0].y, p[1].y, p[2].y});
+      const double ymax = std::max({p[0].y, p[1].y, p[2].y});
+      const int j0 = static_cast<int>(std::ceil(ymin - 0.5));
+      const int j1 = static_cast<int>(std::floor(ymax - 0.5));
+      // Most triangles of a fine mesh cover no column centre: nothing to rasterise.
+      if (i0 > i1 || j0 > j1) {
+        continue;
       }
       double z[3] = {v[0][2], v[1][2], v[2][2]};
       // Counter-clockwise in the x-y projection; an edge-on triangle crosses no column.
@@ -163,12 +173,6 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
       }
       const bool tie01 = owns_ties(p[0], p[1]), tie12 = owns_ties(p[1], p[2]),
                  tie20 = owns_ties(p[2], p[0]);
-      const int i0 = std::max(0, static_cast<int>(std::ceil(xmin - box * d.nx - 0.5)));
-      const int i1 = std::min(d.nx - 1, static_cast<int>(std::floor(xmax - box * d.nx - 0.5)));
-      const double ymin = std::min({p[0].y, p[1].y, p[2].y});
-      const double ymax = std::max({p[0].y, p[1].y, p[2].y});
-      const int j0 = static_cast<int>(std::ceil(ymin - 0.5));
-      const int j1 = static_cast<int>(std::floor(ymax - 0.5));
       for (int i = i0; i <= i1; ++i) {
         const double px = i + 0.5;
         for (int j = j0; j <= j1; ++j) {

@@ -11,7 +11,26 @@
 namespace dld::membrane {
 namespace {
 const double kSqrt3 = std::sqrt(3.0);
+
+/// theta - theta0 from y = r sin(theta), x = r cos(theta) and theta0's cosine and sine: the
+/// angle of (x, y) rotated by -theta0. A membrane bends little per hinge, so the rotated angle is
+/// small: |tan| <= 1/4 takes the Taylor series of atan (terms to t^25, truncation below 1e-17
+/// relative), which costs a division and a polynomial instead of an atan2 (42 of the 115 ns a
+/// hinge took). Larger deviations take atan2 as before. Both agree to round-off.
+double angle_deviation(double y, double x, double theta0, double c0, double s0) {
+  const double sn = y * c0 - x * s0, cs = x * c0 + y * s0;
+  if (cs > 0.0 && 4.0 * std::abs(sn) <= cs) {
+    const double t = sn / cs, t2 = t * t;
+    constexpr double c[13] = {1.0,       -1.0 / 3,  1.0 / 5,   -1.0 / 7, 1.0 / 9,
+                              -1.0 / 11, 1.0 / 13,  -1.0 / 15, 1.0 / 17, -1.0 / 19,
+                              1.0 / 21,  -1.0 / 23, 1.0 / 25};  // atan t = t sum c_n t^2n
+    double p = c[12];
+    for (int n = 11; n >= 0; --n) p = c[n] + t2 * p;
+    return t * p;
+  }
+  return std::atan2(y, x) - theta0;
 }
+}  // namespace
 
 BendingModel::BendingModel(const TriMesh& reference, const BendingParams& p)
     : p_(p), hinges_(hinges(reference)) {
@@ -20,6 +39,8 @@ BendingModel::BendingModel(const TriMesh& reference, const BendingParams& p)
   std::vector<int> corners;
   for (const Hinge& h : hinges_) {
     theta0_.push_back(angle(h, reference.nodes));
+    cos0_.push_back(std::cos(theta0_.back()));
+    sin0_.push_back(std::sin(theta0_.back()));
     corners.insert(corners.end(), {h.a, h.b, h.c, h.d});
   }
   gather_ = NodeGather(corners, reference.node_count());
@@ -60,8 +81,8 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
     const double le2 = e.squaredNorm();
     const double le = std::sqrt(le2), inv_le = 1.0 / le;
     // atan2 is scale-free: (n1 x n2).e / |e| against n1.n2, both multiplied by |e|.
-    const double theta = std::atan2(n1.cross(n2).dot(e), n1.dot(n2) * le);
-    const double dt = theta - theta0_[k];
+    const double dt =
+        angle_deviation(n1.cross(n2).dot(e), n1.dot(n2) * le, theta0_[k], cos0_[k], sin0_[k]);
     en += dt * dt;
     // Gradient of theta (Bridson et al. 2003): wing nodes along their face normals, edge nodes
     // such that the four gradients sum to zero and carry no torque. (c - b).e = (c - a).e - |e|^2.

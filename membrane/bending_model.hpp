@@ -32,6 +32,7 @@ class BendingModel {
   BendingParams p_;
   std::vector<Hinge> hinges_;
   std::vector<double> theta0_;
+  std::vector<double> cos0_, sin0_;  ///< of theta0: the deviation without an atan2 (see .cpp)
   NodeGather gather_;
 };
 

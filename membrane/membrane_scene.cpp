@@ -108,12 +108,10 @@ MembraneScene read_membrane_scene(const Scene& scene) {
   }
   out.reference_lu.nodes.colwise() -= centroid(out.reference_lu.nodes);
 
-  const ModelContext ctx{out.reference_lu,
-                         out.kappa_s_lu,
-                         out.radius_lu,
-                         reference_shear_modulus_lu(scene, m, out.shape_um.radius),
-                         units.energy_lu(1.0),
-                         m.has("capillary_number") ? m.positive("capillary_number") : 0.0};
+  const ModelContext ctx{
+      out.reference_lu,     out.kappa_s_lu,
+      out.radius_lu,        reference_shear_modulus_lu(scene, m, out.shape_um.radius),
+      units.energy_lu(1.0), m.has("capillary_number") ? m.positive("capillary_number") : 0.0};
   std::vector<std::string> names = strings(scene, m, "models");
   std::vector<AnyModel> models;
   for (std::size_t i = 0; i < names.size(); ++i) {

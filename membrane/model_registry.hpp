@@ -28,8 +28,8 @@ struct ModelContext {
   /// The same cell's kappa_s in lattice units of the reference setting (SPEC 4: dx 0.4 um,
   /// tau 1, Re 0.1; same Ca): a modulus given there is kappa_s_lu * (value / this).
   double reference_kappa_s_lu;
-  double energy_to_lu;       ///< factor: J -> lattice energy
-  double capillary_number;   ///< the scene's Ca; 0 when kappa_s was given directly
+  double energy_to_lu;      ///< factor: J -> lattice energy
+  double capillary_number;  ///< the scene's Ca; 0 when kappa_s was given directly
 };
 
 struct ModelEntry {

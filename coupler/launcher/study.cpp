@@ -219,9 +219,9 @@ std::string shortest_floats(const std::string& text) {
       continue;
     }
     std::size_t end = i;
-    while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) ||
-                                 text[end] == '.' || text[end] == '+' || text[end] == '-' ||
-                                 text[end] == '_'))
+    while (end < text.size() &&
+           (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '.' ||
+            text[end] == '+' || text[end] == '-' || text[end] == '_'))
       ++end;
     const std::string token = text.substr(i, end - i);
     const bool is_float = token.find_first_of(".eE") != std::string::npos &&
