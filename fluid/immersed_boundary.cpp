@@ -385,8 +385,8 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
       continue;
     }
     double u[3] = {0, 0, 0};
-    for (int q = 0; q < s.count; ++q)
-      for (int a = 0; a < 3; ++a) u[a] += s.weight[q] * velocity[a][s.node[q]];
+    for (int k = 0; k < s.count; ++k)
+      for (int a = 0; a < 3; ++a) u[a] += s.weight[k] * velocity[a][s.node[k]];
     for (int a = 0; a < 3; ++a) out[3 * m + a] = u[a];
   }
   if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);

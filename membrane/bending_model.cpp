@@ -5,6 +5,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include "shared/input_error.hpp"
 
@@ -12,23 +14,65 @@ namespace dld::membrane {
 namespace {
 const double kSqrt3 = std::sqrt(3.0);
 
-/// theta - theta0 from y = r sin(theta), x = r cos(theta) and theta0's cosine and sine: the
-/// angle of (x, y) rotated by -theta0. A membrane bends little per hinge, so the rotated angle is
-/// small: |tan| <= 1/4 takes the Taylor series of atan (terms to t^25, truncation below 1e-17
-/// relative), which costs a division and a polynomial instead of an atan2 (42 of the 115 ns a
-/// hinge took). Larger deviations take atan2 as before. Both agree to round-off.
-double angle_deviation(double y, double x, double theta0, double c0, double s0) {
+/// Forces on the four nodes of one hinge (12 values, nodes a, b, c, d) and its deviation from the
+/// rest angle. The deviation is the angle of (x, y) = r (cos theta, sin theta) rotated by -theta0.
+/// A membrane bends little per hinge, so that angle is small: with |tan| <= 1/4 it is the Taylor
+/// series of atan (to t^25, truncation below 1e-17 relative), a division and a polynomial that
+/// vectorise, instead of an atan2 (42 of the 115 ns a hinge took). With kSmallOnly a larger
+/// deviation returns false and leaves the slots unset (the caller redoes that hinge); otherwise
+/// it takes atan2 as before. Both agree to round-off.
+template <bool kSmallOnly>
+inline bool hinge_forces(const Hinge& h, double theta0, double c0, double s0, const double* X,
+                         Eigen::Index stride, double k2, double* slot, double& dt) {
+  const double* pa = X + h.a * stride;
+  const double* pb = X + h.b * stride;
+  const double* pc = X + h.c * stride;
+  const double* pd = X + h.d * stride;
+  const double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
+  const double ca[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
+  const double da[3] = {pd[0] - pa[0], pd[1] - pa[1], pd[2] - pa[2]};
+  const double n1[3] = {e[1] * ca[2] - e[2] * ca[1], e[2] * ca[0] - e[0] * ca[2],
+                        e[0] * ca[1] - e[1] * ca[0]};  // face a-b-c
+  const double n2[3] = {da[1] * e[2] - da[2] * e[1], da[2] * e[0] - da[0] * e[2],
+                        da[0] * e[1] - da[1] * e[0]};  // face b-a-d
+  const double le2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+  const double le = std::sqrt(le2), inv_le = 1.0 / le;
+  // atan2 is scale-free: (n1 x n2).e / |e| against n1.n2, both multiplied by |e|.
+  const double m[3] = {n1[1] * n2[2] - n1[2] * n2[1], n1[2] * n2[0] - n1[0] * n2[2],
+                       n1[0] * n2[1] - n1[1] * n2[0]};
+  const double y = m[0] * e[0] + m[1] * e[1] + m[2] * e[2];
+  const double x = (n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2]) * le;
   const double sn = y * c0 - x * s0, cs = x * c0 + y * s0;
-  if (cs > 0.0 && 4.0 * std::abs(sn) <= cs) {
+  const bool small = cs > 0.0 && 4.0 * std::abs(sn) <= cs;
+  if (small) {
     const double t = sn / cs, t2 = t * t;
     constexpr double c[13] = {1.0,       -1.0 / 3,  1.0 / 5,   -1.0 / 7, 1.0 / 9,
                               -1.0 / 11, 1.0 / 13,  -1.0 / 15, 1.0 / 17, -1.0 / 19,
                               1.0 / 21,  -1.0 / 23, 1.0 / 25};  // atan t = t sum c_n t^2n
     double p = c[12];
-    for (int n = 11; n >= 0; --n) p = c[n] + t2 * p;
-    return t * p;
+    for (int q = 11; q >= 0; --q) p = c[q] + t2 * p;
+    dt = t * p;
+  } else if (kSmallOnly) {
+    dt = 0.0;
+    return false;
+  } else {
+    dt = std::atan2(y, x) - theta0;
   }
-  return std::atan2(y, x) - theta0;
+  // Gradient of theta (Bridson et al. 2003): wing nodes along their face normals, edge nodes
+  // such that the four gradients sum to zero and carry no torque. (c - b).e = (c - a).e - |e|^2.
+  const double scale = k2 * dt;  // force = -dE/dtheta * grad theta
+  const double s1 = scale / (n1[0] * n1[0] + n1[1] * n1[1] + n1[2] * n1[2]);
+  const double s2 = scale / (n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
+  const double pcv = (ca[0] * e[0] + ca[1] * e[1] + ca[2] * e[2]) * inv_le;
+  const double pdv = (da[0] * e[0] + da[1] * e[1] + da[2] * e[2]) * inv_le;
+  for (int a = 0; a < 3; ++a) {
+    const double u1 = s1 * n1[a], u2 = s2 * n2[a];
+    slot[a] = -((pcv - le) * u1 + (pdv - le) * u2);
+    slot[3 + a] = pcv * u1 + pdv * u2;
+    slot[6 + a] = -le * u1;
+    slot[9 + a] = -le * u2;
+  }
+  return true;
 }
 }  // namespace
 
@@ -68,35 +112,34 @@ double BendingModel::energy(const Eigen::Ref<const Points>& x) const {
 // NOLINTNEXTLINE(performance-unnecessary-value-param)
 double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const {
   const int n = static_cast<int>(hinges_.size());
-  static thread_local Eigen::Matrix3Xd scratch;  // per calling thread, shared by the loop
+  static thread_local Eigen::Matrix3Xd scratch;  // per calling thread: 4 slots per hinge
+  static thread_local std::vector<std::uint8_t> bent;  // hinges for the atan2 path
   scratch.resize(3, 4 * Eigen::Index{n});
-  Eigen::Matrix3Xd& slot = scratch;
+  bent.resize(static_cast<std::size_t>(n));
+  double* slot = scratch.data();
+  const double* X = x.data();
+  const Eigen::Index stride = x.outerStride();
+  const Hinge* h = hinges_.data();
+  const double *th0 = theta0_.data(), *c0 = cos0_.data(), *s0 = sin0_.data();
+  std::uint8_t* big = bent.data();
+  const double k2 = -2.0 * kSqrt3 * p_.kappa_b;
   double en = 0.0;
-#pragma omp parallel for reduction(+ : en) schedule(static) if (n > 8192)
+  // One hinge per SIMD lane; the few bent beyond atan(1/4) from rest are redone below.
+#pragma omp simd reduction(+ : en)
   for (int k = 0; k < n; ++k) {
-    const Hinge& h = hinges_[k];
-    const Eigen::Vector3d a = x.col(h.a);
-    const Eigen::Vector3d e = x.col(h.b) - a, ca = x.col(h.c) - a, da = x.col(h.d) - a;
-    const Eigen::Vector3d n1 = e.cross(ca), n2 = da.cross(e);
-    const double le2 = e.squaredNorm();
-    const double le = std::sqrt(le2), inv_le = 1.0 / le;
-    // atan2 is scale-free: (n1 x n2).e / |e| against n1.n2, both multiplied by |e|.
-    const double dt =
-        angle_deviation(n1.cross(n2).dot(e), n1.dot(n2) * le, theta0_[k], cos0_[k], sin0_[k]);
+    double dt = 0.0;
+    big[k] = hinge_forces<true>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * k, dt)
+                 ? 0
+                 : 1;
     en += dt * dt;
-    // Gradient of theta (Bridson et al. 2003): wing nodes along their face normals, edge nodes
-    // such that the four gradients sum to zero and carry no torque. (c - b).e = (c - a).e - |e|^2.
-    const double scale = -2.0 * kSqrt3 * p_.kappa_b * dt;  // force = -dE/dtheta * grad theta
-    const Eigen::Vector3d u1 = (scale / n1.squaredNorm()) * n1,
-                          u2 = (scale / n2.squaredNorm()) * n2;
-    const double pc = ca.dot(e) * inv_le, pd = da.dot(e) * inv_le;
-    const Eigen::Index base = 4 * Eigen::Index{k};
-    slot.col(base) = -((pc - le) * u1 + (pd - le) * u2);
-    slot.col(base + 1) = pc * u1 + pd * u2;
-    slot.col(base + 2) = -le * u1;
-    slot.col(base + 3) = -le * u2;
   }
-  gather_.add(slot, f);
+  for (int k = 0; k < n; ++k) {
+    if (!big[k]) continue;
+    double dt = 0.0;
+    hinge_forces<false>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * k, dt);
+    en += dt * dt;
+  }
+  gather_.add(scratch, f);
   return kSqrt3 * p_.kappa_b * en;
 }
 

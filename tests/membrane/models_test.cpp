@@ -110,6 +110,34 @@ TEST(BendingModel, AngleIsSignedAndZeroWhenFlat) {
   EXPECT_NEAR(up, -down, 1e-12);
 }
 
+// The bending forces take a series for hinges near their rest angle and atan2 for the others
+// (membrane/bending_model.cpp): on a mesh crumpled so that many hinges are of each kind, the
+// forces are still minus the gradient of the energy (which always uses atan2).
+TEST(BendingModel, ForcesOfStronglyBentHingesAreMinusTheEnergyGradient) {
+  const TriMesh ref = test::cell_mesh(300, 4.0);
+  const BendingModel model(ref, {1.0});
+  const Points x = test::perturbed(ref.nodes, 0.25, 7);
+  int near = 0, far = 0;
+  for (const Hinge& h : hinges(ref)) {
+    const double d = BendingModel::angle(h, x) - BendingModel::angle(h, ref.nodes);
+    near += std::abs(d) < 0.2 ? 1 : 0;  // series (|tan| <= 1/4 is |d| <= 0.245)
+    far += std::abs(d) > 0.25 ? 1 : 0;  // atan2
+  }
+  EXPECT_GT(near, 50);
+  EXPECT_GT(far, 50);
+  Points f = Points::Zero(3, x.cols());
+  model.add_forces(x, f);
+  Points fd(3, x.cols());
+  const double h = 1e-6;
+  for (int i = 0; i < x.size(); ++i) {
+    Points xp = x, xm = x;
+    xp.data()[i] += h;
+    xm.data()[i] -= h;
+    fd.data()[i] = -(model.energy(xp) - model.energy(xm)) / (2 * h);
+  }
+  EXPECT_LT((f - fd).norm() / f.norm(), 1e-6);
+}
+
 TEST(VolumePenalty, VolumeOfOctahedron) {
   const TriMesh m = test::octahedron();
   EXPECT_NEAR(enclosed_volume(m), 4.0 / 3.0, 1e-14);
