@@ -23,9 +23,8 @@ TEST(ExpectedMode, TheStudyMapHasAllNineCases) {
     for (double ca : {0.2, 0.5, 1.0}) {
       const ExpectedMode e = lookup_expected_mode(map, kMap, d, ca);
       EXPECT_NE(e.source.find(kMap), std::string::npos) << e.source;
-      // The dx = 0.8 um map with viscosity ratio 5 leaves d = 6, Ca 0.5 and 1 undecided
-      // ("mixed": lane drops between displaced stretches): no failure probability there.
-      EXPECT_EQ(e.known(), !(d == 6.0 && ca >= 0.5)) << d << " " << ca;
+      // The dx = 0.8 um map of the study's cell (2026-12-01) decides every case.
+      EXPECT_TRUE(e.known()) << d << " " << ca;
     }
   }
 }
