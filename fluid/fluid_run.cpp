@@ -73,6 +73,7 @@ FluidRunSummary run_fluid(const Scene& scene, const FluidRunOptions& opt) {
   sum.separation_um = band_width(profile, eps) * scene.lattice.dx_um;
   sum.relative_mass_change = std::abs(solver.total_mass() - mass0) / mass0;
   sum.mlups = static_cast<double>(sum.steps) * solver.lattice().fluid_nodes() / secs / 1e6;
+  sum.ms_per_step = sum.steps > 0 ? 1e3 * secs / static_cast<double>(sum.steps) : 0.0;
   if (out) {
     if (scene.output.fields) out->snapshot(solver);
     out->result("separation_distance_um", sum.separation_um, "um");

@@ -25,6 +25,7 @@ struct FluidRunSummary {
   double separation_um = 0;  ///< band next to the pillar carrying eps = d/lambda of the gap flux
   double relative_mass_change = 0;  ///< |M(end) - M(0)| / M(0)
   double mlups = 0;                 ///< fluid-node updates per second (millions)
+  double ms_per_step = 0;           ///< wall time of one step of the stepping loop [ms]
   std::string output;
 };
 

@@ -72,7 +72,8 @@ static int run_main(int argc, char** argv) {
         "separation distance s = {:.4f} um (band carrying eps = d/lambda = {:.5f} of the gap "
         "flux)\n",
         r.separation_um, scene.cell_um.shift / scene.cell_um.lambda);
-    fmt::print("relative mass change {:.2e}; {:.1f} MLUPS\n", r.relative_mass_change, r.mlups);
+    fmt::print("relative mass change {:.2e}; {:.1f} MLUPS; time per step {:.4f} ms\n",
+               r.relative_mass_change, r.mlups, r.ms_per_step);
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     fmt::print("peak resident memory {:.1f} MiB\n", usage.ru_maxrss / 1024.0);
