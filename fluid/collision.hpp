@@ -11,18 +11,19 @@
 
 namespace dld::fluid {
 
+/// The two relaxation rates of a node: symmetric (omega+) and antisymmetric (omega-) part.
+struct RelaxationRates {
+  double plus, minus;
+};
+
 struct Bgk {
   /// Relaxation rates for a node with relaxation time tau: both parts relax with 1/tau.
-  struct Rates {
-    double plus, minus;
-  };
+  using Rates = RelaxationRates;
   static Rates rates(double tau, double /*magic*/) { return {1.0 / tau, 1.0 / tau}; }
 };
 
 struct Trt {
-  struct Rates {
-    double plus, minus;
-  };
+  using Rates = RelaxationRates;
   static Rates rates(double tau, double magic) {
     return {1.0 / tau, 1.0 / (0.5 + magic / (tau - 0.5))};
   }

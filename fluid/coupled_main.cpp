@@ -101,7 +101,7 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       ib.spread(x, f, solver.force_field());
       lap(t0, t_spread);
       if (contrast) {
-        contrast->update(x, solver.tau_field());
+        contrast->update(x, solver.relaxation_field());
         if (steps == 0) {
           spdlog::info("viscosity contrast: {} nodes inside the cells at step {}",
                        contrast->inside_nodes().size(), solver.steps());

@@ -26,7 +26,6 @@ FluidSolver::FluidSolver(const FluidConfig& config)
       f_(HugePageAllocator<double>(config.huge_pages)),
       g_(HugePageAllocator<double>(config.huge_pages)),
       force_field_(HugePageAllocator<double>(config.huge_pages)),
-      tau_field_(HugePageAllocator<double>(config.huge_pages)),
       velocity_(HugePageAllocator<double>(config.huge_pages)),
       force_y_(config.force_y) {
   const std::size_t n = lattice_.padded_size();
@@ -49,9 +48,14 @@ std::array<double*, 3> FluidSolver::force_field() {
   return {force_field_.data(), force_field_.data() + n, force_field_.data() + 2 * n};
 }
 
-double* FluidSolver::tau_field() {
-  if (tau_field_.empty()) tau_field_.assign(lattice_.padded_size(), config_.tau);
-  return tau_field_.data();
+RelaxationField& FluidSolver::relaxation_field() {
+  if (!relaxation_) {
+    const RelaxationField::RatesOf rates =
+        config_.collision == CollisionKind::kBgk ? &Bgk::rates : &Trt::rates;
+    relaxation_ = std::make_unique<RelaxationField>(lattice_.padded_size(), config_.tau, rates,
+                                                    config_.magic, config_.huge_pages);
+  }
+  return *relaxation_;
 }
 
 namespace {
@@ -74,7 +78,7 @@ void FluidSolver::step() {
   p.magic = config_.magic;
   p.force[0] = config_.force_x;
   p.force[1] = force_y_;
-  const bool ff = !force_field_.empty(), tf = !tau_field_.empty();
+  const bool ff = !force_field_.empty(), tf = relaxation_ != nullptr;
   if (ff) {
     const std::size_t n = lattice_.padded_size();
     if (velocity_.empty()) velocity_.assign(3 * n, 0.0);
@@ -83,7 +87,10 @@ void FluidSolver::step() {
       p.velocity[a] = velocity_.data() + a * n;
     }
   }
-  if (tf) p.tau_field = tau_field_.data();
+  if (tf) {
+    p.rate_plus = relaxation_->plus();
+    p.rate_minus = relaxation_->minus();
+  }
   sums_ = config_.collision == CollisionKind::kBgk
               ? dispatch_fields<Bgk>(ff, tf, lattice_, f_.data(), g_.data(), p)
               : dispatch_fields<Trt>(ff, tf, lattice_, f_.data(), g_.data(), p);

@@ -12,6 +12,7 @@
 #include "fluid/huge_page_allocator.hpp"
 #include "fluid/lateral_controller.hpp"
 #include "fluid/lattice.hpp"
+#include "fluid/relaxation_field.hpp"
 #include "fluid/stream_collide.hpp"
 #include "shared/scene.hpp"
 
@@ -63,8 +64,8 @@ class FluidSolver {
 
   /// Per-node body force field, added to the uniform force (created zeroed on first call).
   std::array<double*, 3> force_field();
-  /// Per-node relaxation time (created filled with tau on first call).
-  double* tau_field();
+  /// Per-node relaxation times and their rates (created with tau everywhere on first call).
+  RelaxationField& relaxation_field();
 
   /// Everything a restart needs besides the populations (checkpoints, fluid/checkpoint.hpp).
   struct Memory {
@@ -88,7 +89,8 @@ class FluidSolver {
   Lattice lattice_;
   using Field = std::vector<double, HugePageAllocator<double>>;
   Field f_, g_;  ///< current and next populations
-  Field force_field_, tau_field_, velocity_;
+  Field force_field_, velocity_;
+  std::unique_ptr<RelaxationField> relaxation_;
   bool velocity_current_ = false;  ///< velocity_ holds the kernel's u of the last step
   FlowSums sums_;
   double force_y_ = 0.0;          ///< y force for the next step

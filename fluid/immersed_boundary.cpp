@@ -224,38 +224,44 @@ std::size_t column_bin(const double* p, const Domain& d, int width) {
 }
 }  // namespace
 
-void ImmersedBoundary::sort_by_column(std::span<const double> positions, int width) const {
+void ImmersedBoundary::locate_markers(std::span<const double> positions, int width) const {
   const Domain& d = lattice_.domain();
-  const std::size_t markers = positions.size() / 3;
-  const std::size_t bins = static_cast<std::size_t>(d.nx) * d.ny + 1;
-  bin_.resize(markers);
-  bin_start_.assign(bins + 1, 0);
-  for (std::size_t m = 0; m < markers; ++m) {
-    bin_[m] = static_cast<std::uint32_t>(column_bin(&positions[3 * m], d, width));
-    ++bin_start_[bin_[m] + 1];
+  const auto markers = static_cast<std::int64_t>(positions.size() / 3);
+  first_.resize(static_cast<std::size_t>(markers));
+  bin_.resize(static_cast<std::size_t>(markers));
+#pragma omp parallel for schedule(static)
+  for (std::int64_t m = 0; m < markers; ++m) {
+    const double* p = &positions[3 * static_cast<std::size_t>(m)];
+    first_[static_cast<std::size_t>(m)] = first_column(p, d.nx, width);
+    bin_[static_cast<std::size_t>(m)] = static_cast<std::uint32_t>(column_bin(p, d, width));
   }
+}
+
+// Counting sort of the markers by bin_ (locate_markers first) into by_column_.
+void ImmersedBoundary::sort_by_column() const {
+  const Domain& d = lattice_.domain();
+  const std::size_t bins = static_cast<std::size_t>(d.nx) * d.ny + 1;
+  bin_start_.assign(bins + 1, 0);
+  for (const std::uint32_t b : bin_) ++bin_start_[b + 1];
   for (std::size_t b = 1; b <= bins; ++b) bin_start_[b] += bin_start_[b - 1];
-  by_column_.resize(markers);
-  for (std::size_t m = 0; m < markers; ++m)
+  by_column_.resize(bin_.size());
+  for (std::size_t m = 0; m < bin_.size(); ++m)
     by_column_[bin_start_[bin_[m]]++] = static_cast<std::uint32_t>(m);
 }
 
 // Slab edges b_0 = 0 < b_1 < ... < b_T = nx at about equal marker counts, at least 2W apart, so
 // that the markers inside different slabs, and those straddling different edges, never share a
 // node: each group is spread by one thread into the one field, with no copies to add up.
-void ImmersedBoundary::group_markers(std::span<const double> positions, int threads,
-                                     int width) const {
+// Uses first_ and by_column_ (locate_markers, sort_by_column).
+void ImmersedBoundary::group_markers(int threads, int width) const {
   const int nx = lattice_.nx();
-  const std::size_t markers = positions.size() / 3;
+  const std::size_t markers = first_.size();
   std::vector<int> edge(static_cast<std::size_t>(threads) + 1, nx);
   edge[0] = 0;
   group_of_.resize(markers);
   if (threads > 1) {
     std::vector<std::size_t> below(static_cast<std::size_t>(nx) + 1, 0);
-    for (std::size_t m = 0; m < markers; ++m)
-      ++below[static_cast<std::size_t>(
-                  std::clamp(first_column(&positions[3 * m], nx, width), 0, nx - 1)) +
-              1];
+    for (const int i0 : first_) ++below[static_cast<std::size_t>(std::clamp(i0, 0, nx - 1)) + 1];
     for (int i = 0; i < nx; ++i)
       below[static_cast<std::size_t>(i) + 1] += below[static_cast<std::size_t>(i)];
     for (int t = 1; t < threads; ++t) {
@@ -269,7 +275,7 @@ void ImmersedBoundary::group_markers(std::span<const double> positions, int thre
   }
   std::vector<std::uint32_t> count(2 * static_cast<std::size_t>(threads) + 1, 0);
   for (std::size_t m = 0; m < markers; ++m) {
-    const int i0 = first_column(&positions[3 * m], nx, width);
+    const int i0 = first_[m];
     int g = threads;  // straddles x = 0 (or is not finite): the edge of slab 0
     if (i0 >= 0 && i0 + width <= nx) {
       int t = 0;
@@ -282,8 +288,7 @@ void ImmersedBoundary::group_markers(std::span<const double> positions, int thre
   for (std::size_t g = 1; g < count.size(); ++g) count[g] += count[g - 1];
   group_start_.assign(count.begin(), count.end());
   order_.resize(markers);
-  // Within a group, markers in column order (sort_by_column): their supports overlap in cache.
-  sort_by_column(positions, width);
+  // Within a group, markers in column order: their supports overlap in cache.
   for (const std::uint32_t m : by_column_) order_[count[group_of_[m]]++] = m;
 }
 
@@ -293,7 +298,9 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
   const std::size_t n = lattice_.padded_size();
   const std::size_t markers = positions.size() / 3;
   const int slabs = std::clamp(omp_get_max_threads(), 1, std::max(1, lattice_.nx() / (2 * W)));
-  group_markers(positions, slabs, W);
+  locate_markers(positions, W);
+  sort_by_column();
+  group_markers(slabs, W);
   constexpr bool keep = W == 4;  // the default kernel keeps its footprints for interpolation
   if (keep) {
     spread_footprints_.resize(markers);
@@ -361,7 +368,10 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
   // At the positions of the last spread: its footprints, in its order (spatially sorted too).
   const bool kept = W == 4 && positions.size() == spread_positions_.size() &&
                     std::equal(positions.begin(), positions.end(), spread_positions_.begin());
-  if (!kept) sort_by_column(positions, W);
+  if (!kept) {
+    locate_markers(positions, W);
+    sort_by_column();
+  }
   const std::vector<std::uint32_t>& order = kept ? order_ : by_column_;
 #pragma omp parallel for schedule(static) reduction(min : bad)
   for (std::size_t q = 0; q < markers; ++q) {

@@ -61,11 +61,15 @@ class ImmersedBoundary {
   template <int W>
   void interpolate_w(std::span<const double> positions,
                      const std::array<const double*, 3>& velocity, std::span<double> out) const;
+  /// first_ and bin_ of every marker (in parallel): its support's first x column and its (x, y)
+  /// column bin.
+  void locate_markers(std::span<const double> positions, int width) const;
+  /// Fills by_column_: the markers sorted by bin_ (counting sort).
+  void sort_by_column() const;
   /// Splits the markers among `threads` x slabs for spreading without write conflicts: fills
-  /// order_ (marker indices, group after group) and group_start_ (2 threads + 1 entries).
-  void group_markers(std::span<const double> positions, int threads, int width) const;
-  /// Fills by_column_: the markers sorted by the (x, y) column of their support (counting sort).
-  void sort_by_column(std::span<const double> positions, int width) const;
+  /// order_ (marker indices, group after group, in column order within a group) and group_start_
+  /// (2 threads + 1 entries).
+  void group_markers(int threads, int width) const;
 
   const Lattice& lattice_;
   IbKernel kernel_;
@@ -81,6 +85,7 @@ class ImmersedBoundary {
   mutable std::vector<std::uint32_t> group_start_;
   mutable std::vector<std::uint8_t> group_of_;
   mutable std::vector<std::uint32_t> by_column_, bin_, bin_start_;
+  mutable std::vector<int> first_;
   // The 4-point footprints of the last spread, in order_; interpolation at the same positions
   // (a coupled step spreads and interpolates at one set) reads them instead of recomputing.
   mutable std::vector<IbFootprint<4>> spread_footprints_;

@@ -27,7 +27,9 @@ struct KernelParams {
   double magic = 3.0 / 16.0;    ///< TRT Lambda
   double force[3] = {0, 0, 0};  ///< uniform body force density (lattice units)
   const double* force_field[3] = {nullptr, nullptr, nullptr};  ///< per node, added to `force`
-  const double* tau_field = nullptr;                           ///< per node relaxation time
+  /// Per-node relaxation rates omega+ and omega- (fluid/relaxation_field.hpp), or none.
+  const double* rate_plus = nullptr;
+  const double* rate_minus = nullptr;
   /// With a force field (coupled runs), the kernel also stores each fluid node's velocity here
   /// (the u of the collision, Guo's half-force shift included): the immersed boundary interpolates
   /// it without a second pass over the populations.
@@ -71,7 +73,8 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
   const double* force_x = kForceField ? p.force_field[0] + node : nullptr;
   const double* force_y = kForceField ? p.force_field[1] + node : nullptr;
   const double* force_z = kForceField ? p.force_field[2] + node : nullptr;
-  const double* tau = kTauField ? p.tau_field + node : nullptr;
+  const double* rate_plus = kTauField ? p.rate_plus + node : nullptr;
+  const double* rate_minus = kTauField ? p.rate_minus + node : nullptr;
   double* vel_x = kForceField ? p.velocity[0] + node : nullptr;
   double* vel_y = kForceField ? p.velocity[1] + node : nullptr;
   double* vel_z = kForceField ? p.velocity[2] + node : nullptr;
@@ -91,9 +94,8 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
     }
     double op = op_uniform, om = om_uniform;
     if constexpr (kTauField) {
-      const auto r = Collision::rates(tau[l], p.magic);
-      op = r.plus;
-      om = r.minus;
+      op = rate_plus[l];
+      om = rate_minus[l];
     }
     double rho = 0, jx = 0, jy = 0, jz = 0;
     [&]<int... I>(std::integer_sequence<int, I...>) {

@@ -79,9 +79,10 @@ ViscosityContrast::ViscosityContrast(const Lattice& lattice, double tau_out, dou
   }
 }
 
-void ViscosityContrast::update(std::span<const double> positions, double* tau) {
+void ViscosityContrast::update(std::span<const double> positions, RelaxationField& field) {
+  const RelaxationField::Value outside = field.value_of(tau_out_), inside = field.value_of(tau_in_);
   for (std::size_t n : inside_) {
-    tau[n] = tau_out_;
+    field.set(n, outside);
   }
   inside_.clear();
   unpaired_ = 0;
@@ -108,7 +109,7 @@ void ViscosityContrast::update(std::span<const double> positions, double* tau) {
       fill_cell(w);
     }
     for (std::size_t n : w.inside) {
-      tau[n] = tau_in_;
+      field.set(n, inside);
     }
   }
   for (const Workspace& w : work_) {

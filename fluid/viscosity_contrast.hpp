@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "fluid/lattice.hpp"
+#include "fluid/relaxation_field.hpp"
 
 namespace dld::fluid {
 
@@ -35,8 +36,8 @@ class ViscosityContrast {
 
   /// Marks the fluid nodes inside the membranes at `positions` (3 per marker, cell after cell,
   /// lattice units): tau_in there, tau_out on the nodes that were inside before and are not now.
-  /// `tau` is the solver's per-node relaxation field (padded size).
-  void update(std::span<const double> positions, double* tau);
+  /// `field` is the solver's per-node relaxation field (padded size).
+  void update(std::span<const double> positions, RelaxationField& field);
 
   /// Padded indices of the nodes inside a membrane after the last update.
   const std::vector<std::size_t>& inside_nodes() const { return inside_; }

@@ -214,7 +214,7 @@ void BM_ViscosityField(benchmark::State& state) {
   for (auto _ : state) {
     for (double& v : x) v += dx;
     dx = -dx;
-    vc.update(x, s.tau_field());
+    vc.update(x, s.relaxation_field());
   }
   state.counters["inside_nodes"] = static_cast<double>(vc.inside_nodes().size());
 }
@@ -224,18 +224,23 @@ BENCHMARK(BM_ViscosityField)
     ->Unit(benchmark::kMicrosecond);
 #endif
 
-// The lattice step of a coupled run (force field in, velocity field out) against the plain one.
+// The lattice step of a coupled run (force field in, velocity field out; second argument 1: with
+// the per-node relaxation of a viscosity contrast too) against the plain one.
 void BM_DldCellStepWithForceField(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
   FluidSolver s(dld_config());
   s.force_field();
+  if (state.range(1) != 0) {
+    dld::fluid::RelaxationField& r = s.relaxation_field();
+    for (std::size_t n = 0; n < r.size(); n += 7) r.set(n, 3.0);  // some nodes "inside"
+  }
   s.step();
   for (auto _ : state) s.step();
   report(state, static_cast<double>(s.lattice().fluid_nodes()));
 }
 BENCHMARK(BM_DldCellStepWithForceField)
-    ->Arg(1)
-    ->Arg(2)
+    ->ArgsProduct({{1, 2}, {0, 1}})
+    ->ArgNames({"threads", "relaxation"})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 

@@ -36,10 +36,10 @@ TEST(ViscosityContrast, LayeredCouetteFlowMatchesTheTwoFluidProfile) {
     c.tau = tau_out;
     FluidSolver s(c);
     const int k0 = 7, k1 = 12;  // inner layer: z in [7, 13]
-    double* tau = s.tau_field();
+    RelaxationField& tau = s.relaxation_field();
     for (int k = k0; k <= k1; ++k)
       for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) tau[s.lattice().index(i, j, k)] = tau_in;
+        for (int i = 0; i < 3; ++i) tau.set(s.lattice().index(i, j, k), tau_in);
     // Outer thickness 14 (viscosity 1), inner 6 (viscosity ratio): 2U = sigma (14 + 6 / ratio).
     const double za = k0, zb = k1 + 1.0, H = c.domain.nz;
     const double slope_out = 2 * U / (za + (H - zb) + (zb - za) / ratio);
@@ -133,26 +133,26 @@ TEST(ViscosityContrast, SphereAcrossEveryPeriodicFaceIsTheBall) {
   const double c[3] = {23.3, 18.7, 14.2};
   const Sphere s = sphere(c[0] + d.nx, c[1] + d.shift, c[2], R);
   ViscosityContrast vc(L, 1.0, 3.0, s.nodes, s.faces, s.face_ids);
-  std::vector<double> tau(L.padded_size(), 1.0);
-  vc.update(s.x, tau.data());
+  RelaxationField tau(L.padded_size(), 1.0, &Trt::rates, 3.0 / 16.0, false);
+  vc.update(s.x, tau);
   expect_ball(L, vc, c, R);
-  for (std::size_t n : vc.inside_nodes()) EXPECT_EQ(tau[n], 3.0);
+  for (std::size_t n : vc.inside_nodes()) EXPECT_EQ(tau.tau(n), 3.0);
 }
 
 TEST(ViscosityContrast, MovingCellLeavesNoInnerViscosityBehind) {
   const Domain d = box(5.0, true);
   const Lattice L(d);
   const double R = 4.0;
-  std::vector<double> tau(L.padded_size(), 1.0);
+  RelaxationField tau(L.padded_size(), 1.0, &Trt::rates, 3.0 / 16.0, false);
   Sphere s = sphere(6.0, 6.0, 8.0, R);
   ViscosityContrast vc(L, 1.0, 3.0, s.nodes, s.faces, s.face_ids);
-  vc.update(s.x, tau.data());
+  vc.update(s.x, tau);
   const double c[3] = {15.6, 12.2, 8.1};
   s = sphere(c[0], c[1], c[2], R);
-  vc.update(s.x, tau.data());
+  vc.update(s.x, tau);
   expect_ball(L, vc, c, R);
   std::size_t at_inner = 0;
-  for (std::size_t n = 0; n < tau.size(); ++n) at_inner += tau[n] == 3.0;
+  for (std::size_t n = 0; n < tau.size(); ++n) at_inner += tau.tau(n) == 3.0;
   EXPECT_EQ(at_inner, vc.inside_nodes().size());
 }
 
@@ -167,14 +167,14 @@ TEST(ViscosityContrast, ColumnsThroughVerticesAndEdgesCountOneCrossing) {
   for (int subdivisions : {0, 1, 2, 3}) {
     const Sphere s = sphere(c[0], c[1], c[2], R, subdivisions);
     ViscosityContrast vc(L, 1.0, 3.0, s.nodes, s.faces, s.face_ids);
-    std::vector<double> tau(L.padded_size(), 1.0);
-    vc.update(s.x, tau.data());
+    RelaxationField tau(L.padded_size(), 1.0, &Trt::rates, 3.0 / 16.0, false);
+    vc.update(s.x, tau);
     EXPECT_EQ(vc.unpaired_columns(), 0u) << subdivisions << " subdivisions";
     // Height of the crossing above the centre: the edge's at 0 subdivisions, the pole's after.
     const double h = subdivisions == 0 ? R * t / std::sqrt(1.0 + t * t) : R;
     for (int k = 0; k < 16; ++k) {
       const bool in = std::abs(k + 0.5 - c[2]) < h;
-      EXPECT_EQ(tau[L.index(10, 10, k)], in ? 3.0 : 1.0)
+      EXPECT_EQ(tau.tau(L.index(10, 10, k)), in ? 3.0 : 1.0)
           << "k " << k << ", " << subdivisions << " subdivisions";
     }
   }
@@ -186,8 +186,8 @@ TEST(ViscosityContrast, SolidNodesKeepTheirRelaxationTime) {
   const Lattice L(d);
   const Sphere s = sphere(12.0, 10.0, 8.0, 5.0);  // around the pillar: the overlap is solid
   ViscosityContrast vc(L, 1.0, 3.0, s.nodes, s.faces, s.face_ids);
-  std::vector<double> tau(L.padded_size(), 1.0);
-  vc.update(s.x, tau.data());
+  RelaxationField tau(L.padded_size(), 1.0, &Trt::rates, 3.0 / 16.0, false);
+  vc.update(s.x, tau);
   EXPECT_GT(vc.inside_nodes().size(), 0u);
   for (std::size_t n : vc.inside_nodes()) EXPECT_EQ(L.solid_mask()[n], 0);
 }

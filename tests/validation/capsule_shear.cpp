@@ -183,7 +183,7 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
         const auto field = solver.force_field();
         ib.spread(x, f, field);
         if (contrast) {
-          contrast->update(x, solver.tau_field());
+          contrast->update(x, solver.relaxation_field());
           const double inside = static_cast<double>(contrast->inside_nodes().size()) / volume0;
           run.inside_min = std::min(run.inside_min, inside);
           run.inside_max = std::max(run.inside_max, inside);
