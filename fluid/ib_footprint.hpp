@@ -128,4 +128,46 @@ inline void interpolate_footprint(const IbFootprint<W>& p, const double* const v
   }
 }
 
+/// The footprint of a marker whose support crosses the shifted x face: columns 0..split-1 lie in
+/// one box, split..W-1 in the next, whose frame is lower by the shift, so each part has its own y
+/// rows and weights (as ImmersedBoundary::stencil). Still separable; no vector path (rare).
+template <int W>
+struct IbSplitFootprint {
+  double wx[W], wz[W];        ///< wx carries the normalisation
+  double wy[2][W];            ///< y weights of each part
+  std::size_t row[2][W];      ///< rows of each part
+  std::size_t layer[W];
+  std::size_t x0[2];          ///< padded x offset of each part's first column
+  int split;                  ///< first column of the second part, 1..W-1
+};
+
+template <int W>
+inline void spread_footprint(const IbSplitFootprint<W>& p, const double* f,
+                             double* const field[3]) {
+  for (int c = 0; c < W; ++c)
+    for (int b = 0; b < W; ++b)
+      for (int a = 0; a < W; ++a) {
+        const int part = a < p.split ? 0 : 1;
+        const std::size_t n =
+            p.layer[c] + p.row[part][b] + p.x0[part] + static_cast<std::size_t>(a - part * p.split);
+        const double w = p.wx[a] * p.wy[part][b] * p.wz[c];
+        for (int d = 0; d < 3; ++d) field[d][n] += w * f[d];
+      }
+}
+
+template <int W>
+inline void interpolate_footprint(const IbSplitFootprint<W>& p, const double* const v[3],
+                                  double* u) {
+  u[0] = u[1] = u[2] = 0.0;
+  for (int c = 0; c < W; ++c)
+    for (int b = 0; b < W; ++b)
+      for (int a = 0; a < W; ++a) {
+        const int part = a < p.split ? 0 : 1;
+        const std::size_t n =
+            p.layer[c] + p.row[part][b] + p.x0[part] + static_cast<std::size_t>(a - part * p.split);
+        const double w = p.wx[a] * p.wy[part][b] * p.wz[c];
+        for (int d = 0; d < 3; ++d) u[d] += w * v[d][n];
+      }
+}
+
 }  // namespace dld::fluid

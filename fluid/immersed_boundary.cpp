@@ -144,44 +144,96 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
 }
 
 template <int W>
+int ImmersedBoundary::z_layers(double Z, double* wz, std::size_t* layer) const {
+  const Domain& d = lattice_.domain();
+  int k0 = axis_weights<W>(kernel_, Z, wz);
+  if (d.walls_z && (k0 < 0 || k0 + W > d.nz)) {
+    // Wall layers leave the support (stencil() drops them): still separable, with those z
+    // weights zero and the remaining layers renormalised. Their slots point at fluid layers.
+    const int shift = k0 < 0 ? -k0 : d.nz - W - k0;  // move the window inside [0, nz)
+    double w[W];
+    for (int c = 0; c < W; ++c) {
+      const int from = c + shift;  // the original slot of the layer now in slot c
+      w[c] = from >= 0 && from < W ? wz[from] : 0.0;
+    }
+    for (int c = 0; c < W; ++c) wz[c] = w[c];
+    k0 += shift;
+  }
+  const std::size_t plane = static_cast<std::size_t>(lattice_.px()) * lattice_.py();
+  const int kw0 = d.walls_z || (k0 >= 0 && k0 < d.nz) ? k0 : ((k0 % d.nz) + d.nz) % d.nz;
+  for (int c = 0; c < W; ++c) {
+    const int kw = kw0 + c < d.nz || d.walls_z ? kw0 + c : kw0 + c - d.nz;
+    layer[c] = static_cast<std::size_t>(kw + 1) * plane;
+  }
+  return k0;
+}
+
+template <int W>
+bool ImmersedBoundary::split_footprint(const double* p, IbSplitFootprint<W>& fp) const {
+  const Domain& d = lattice_.domain();
+  double X = p[0], Y = p[1];
+  const double Z = p[2];
+  if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z)) return false;
+  if (d.nx < W || d.ny < W || d.nz < W) return false;
+  const double wraps = std::floor(X / d.nx);
+  X -= wraps * d.nx;
+  Y -= wraps * d.shift;
+  const int i0 = axis_weights<W>(kernel_, X, fp.wx);
+  if (i0 >= 0 && i0 + W <= d.nx) return false;  // inside one box: footprint()
+  const int box0 = i0 < 0 ? -1 : 0;  // the box of the first column; the rest are in box0 + 1
+  fp.split = (box0 + 1) * d.nx - i0;
+  z_layers<W>(Z, fp.wz, fp.layer);
+  const auto px = static_cast<std::size_t>(lattice_.px());
+  double sy[2] = {0, 0};
+  for (int part = 0; part < 2; ++part) {
+    const int box = box0 + part;
+    const int j0 = axis_weights<W>(kernel_, Y - box * d.shift, fp.wy[part]);
+    const int jw0 = ((j0 % d.ny) + d.ny) % d.ny;
+    const int first = part == 0 ? i0 - box * d.nx : 0;  // the part's first column in its box
+    fp.x0[part] = static_cast<std::size_t>(first + 1);
+    const int columns = part == 0 ? fp.split : W - fp.split;
+    for (int b = 0; b < W; ++b) {
+      sy[part] += fp.wy[part][b];
+      const int jw = jw0 + b < d.ny ? jw0 + b : jw0 + b - d.ny;
+      fp.row[part][b] = static_cast<std::size_t>(jw + 1) * px;
+      for (int a = 0; a < columns; ++a)
+        if (column_solid_[fp.row[part][b] + fp.x0[part] + static_cast<std::size_t>(a)]) return false;
+    }
+  }
+  double sz = 0, total = 0;
+  for (int c = 0; c < W; ++c) sz += fp.wz[c];
+  for (int a = 0; a < W; ++a) total += fp.wx[a] * sy[a < fp.split ? 0 : 1];
+  const double inv = 1.0 / (total * sz);
+  for (double& w : fp.wx) w *= inv;
+  return true;
+}
+
+template bool ImmersedBoundary::split_footprint<2>(const double*, IbSplitFootprint<2>&) const;
+template bool ImmersedBoundary::split_footprint<3>(const double*, IbSplitFootprint<3>&) const;
+template bool ImmersedBoundary::split_footprint<4>(const double*, IbSplitFootprint<4>&) const;
+
+template <int W>
 bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
   const Domain& d = lattice_.domain();
   double X = p[0], Y = p[1];
   const double Z = p[2];
   if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z)) return false;
-  if (d.ny < W || (!d.walls_z && d.nz < W)) return false;  // a row or layer would repeat
+  if (d.ny < W || d.nz < W) return false;  // a row or layer would repeat
   const double wraps = std::floor(X / d.nx);
   X -= wraps * d.nx;
   Y -= wraps * d.shift;
   const int i0 = axis_weights<W>(kernel_, X, fp.wx);
   if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
-  int k0 = axis_weights<W>(kernel_, Z, fp.wz);
-  if (d.walls_z && (k0 < 0 || k0 + W > d.nz)) {
-    // Wall layers leave the support (stencil() drops them): still separable, with those z
-    // weights zero and the remaining layers renormalised. Their slots point at fluid layers.
-    if (d.nz < W) return false;
-    const int shift = k0 < 0 ? -k0 : d.nz - W - k0;  // move the window inside [0, nz)
-    double w[W];
-    for (int c = 0; c < W; ++c) {
-      const int from = c + shift;  // the original slot of the layer now in slot c
-      w[c] = from >= 0 && from < W ? fp.wz[from] : 0.0;
-    }
-    for (int c = 0; c < W; ++c) fp.wz[c] = w[c];
-    k0 += shift;
-  }
+  z_layers<W>(Z, fp.wz, fp.layer);
   const int j0 = axis_weights<W>(kernel_, Y, fp.wy);
   const int jw0 = j0 >= 0 && j0 < d.ny ? j0 : ((j0 % d.ny) + d.ny) % d.ny;
   if (block_solid_[static_cast<std::size_t>(jw0) * d.nx + i0]) return false;
   const auto px = static_cast<std::size_t>(lattice_.px());
-  const std::size_t plane = px * static_cast<std::size_t>(lattice_.py());
-  const int kw0 = d.walls_z || (k0 >= 0 && k0 < d.nz) ? k0 : ((k0 % d.nz) + d.nz) % d.nz;
   double sx = 0, sy = 0, sz = 0;
   for (int a = 0; a < W; ++a) {
     sx += fp.wx[a], sy += fp.wy[a], sz += fp.wz[a];
     const int jw = jw0 + a < d.ny ? jw0 + a : jw0 + a - d.ny;  // y is periodic
-    const int kw = kw0 + a < d.nz || d.walls_z ? kw0 + a : kw0 + a - d.nz;
     fp.row[a] = static_cast<std::size_t>(jw + 1) * px;
-    fp.layer[a] = static_cast<std::size_t>(kw + 1) * plane;
   }
   // The weights sum to one analytically; normalising as stencil() does keeps spreading
   // conservative and interpolation a weighted mean to round-off.
@@ -316,6 +368,7 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
     }
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
     IbFootprint<W> fp;
+    IbSplitFootprint<W> sp;
     IbStencil s;
     // Phase 0: the markers inside each slab; phase 1: those straddling each slab's lower edge.
     for (int phase = 0; phase < 2; ++phase) {
@@ -331,6 +384,8 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
           }
           if (separable) {
             spread_footprint(fp, &forces[3 * m], out);
+          } else if (split_footprint<W>(&positions[3 * m], sp)) {
+            spread_footprint(sp, &forces[3 * m], out);
           } else if (std::isfinite(positions[3 * m]) && stencil(&positions[3 * m], s)) {
             for (int k = 0; k < s.count; ++k)
               for (int a = 0; a < 3; ++a) out[a][s.node[k]] += s.weight[k] * forces[3 * m + a];
@@ -387,6 +442,11 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
     IbFootprint<W> fp;
     if (!kept && footprint<W>(&positions[3 * m], fp)) {
       interpolate_footprint(fp, v, &out[3 * m]);
+      continue;
+    }
+    IbSplitFootprint<W> sp;
+    if (split_footprint<W>(&positions[3 * m], sp)) {
+      interpolate_footprint(sp, v, &out[3 * m]);
       continue;
     }
     IbStencil s;

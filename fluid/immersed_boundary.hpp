@@ -53,8 +53,16 @@ class ImmersedBoundary {
   /// z wall, or reaches a solid node. Both give the same weights up to round-off.
   template <int W>
   bool footprint(const double* p, IbFootprint<W>& fp) const;
+  /// The same for a marker whose support crosses the shifted x face; false when it does not, or
+  /// reaches a solid node.
+  template <int W>
+  bool split_footprint(const double* p, IbSplitFootprint<W>& fp) const;
 
  private:
+  /// z weights and layer offsets of a support (wall layers zero-weighted, see footprint());
+  /// returns the first layer.
+  template <int W>
+  int z_layers(double Z, double* wz, std::size_t* layer) const;
   template <int W>
   void spread_w(std::span<const double> positions, std::span<const double> forces,
                 const std::array<double*, 3>& field) const;

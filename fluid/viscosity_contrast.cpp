@@ -118,6 +118,39 @@ void ViscosityContrast::update(std::span<const double> positions, RelaxationFiel
   }
 }
 
+// Marks the triangles whose x-y extent contains a column centre (i + 1/2, j + 1/2): only those
+// can cross a column (a lattice-free test, one SIMD lane per triangle; the others are most of a
+// fine mesh). When the folded cell reaches beyond the box, every triangle is a candidate.
+void ViscosityContrast::mark_candidates(const std::uint32_t* tris, std::size_t faces,
+                                        Workspace& w) const {
+  const double* X = w.folded.data();
+  const std::size_t nodes = w.folded.size() / 3;
+  double lo = X[0], hi = X[0];
+  for (std::size_t m = 0; m < nodes; ++m) {
+    lo = std::min(lo, X[3 * m]);
+    hi = std::max(hi, X[3 * m]);
+  }
+  w.candidate.assign(faces, 1);
+  if (!(lo >= 0.0 && hi < lattice_.domain().nx)) {
+    return;  // in two boxes: each triangle is tested per box in rasterise_cell
+  }
+  std::uint8_t* c = w.candidate.data();
+#pragma omp simd
+  for (std::size_t f = 0; f < faces; ++f) {
+    const double* a = X + 3 * std::size_t{tris[3 * f]};
+    const double* b = X + 3 * std::size_t{tris[3 * f + 1]};
+    const double* e = X + 3 * std::size_t{tris[3 * f + 2]};
+    const double xmin = std::min(a[0], std::min(b[0], e[0]));
+    const double xmax = std::max(a[0], std::max(b[0], e[0]));
+    const double ymin = std::min(a[1], std::min(b[1], e[1]));
+    const double ymax = std::max(a[1], std::max(b[1], e[1]));
+    c[f] = std::ceil(xmin - 0.5) <= std::floor(xmax - 0.5) &&
+                   std::ceil(ymin - 0.5) <= std::floor(ymax - 0.5)
+               ? 1
+               : 0;
+  }
+}
+
 // Folds the cell into the box as one piece (by its mean x, so it is never torn apart), then
 // rasterises each triangle in every box frame its x extent reaches: columns beyond x = nx belong
 // to the next box, whose frame is lower by the shift (as in ImmersedBoundary::stencil).
@@ -137,8 +170,14 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
   }
   w.crossings.clear();
   const double inv_nx = 1.0 / d.nx;
-  const std::uint32_t* tri = faces_.data() + 3 * first_face_[cell];
-  for (std::size_t f = 0; f < cell_faces_[cell]; ++f, tri += 3) {
+  const std::size_t faces = cell_faces_[cell];
+  const std::uint32_t* tris = faces_.data() + 3 * first_face_[cell];
+  mark_candidates(tris, faces, w);
+  for (std::size_t f = 0; f < faces; ++f) {
+    if (!w.candidate[f]) {
+      continue;
+    }
+    const std::uint32_t* tri = tris + 3 * f;
     const double* v[3] = {&w.folded[3 * std::size_t{tri[0]}], &w.folded[3 * std::size_t{tri[1]}],
                           &w.folded[3 * std::size_t{tri[2]}]};
     const double xmin = std::min({v[0][0], v[1][0], v[2][0]});
@@ -185,8 +224,13 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
             continue;
           }
           const double zc = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / (e0 + e1 + e2);
-          const int jw = ((j % d.ny) + d.ny) % d.ny;
-          w.crossings.push_back({static_cast<std::uint64_t>(jw) * d.nx + i, zc});
+          // y is periodic; a cell is never more than a box away in y, so no modulo is needed.
+          int jw = j < 0 ? j + d.ny : (j >= d.ny ? j - d.ny : j);
+          if (jw < 0 || jw >= d.ny) {
+            jw = ((j % d.ny) + d.ny) % d.ny;
+          }
+          w.crossings.push_back(
+              {(static_cast<std::uint64_t>(jw) << 32) | static_cast<std::uint32_t>(i), zc});
         }
       }
     }
@@ -211,8 +255,8 @@ void ViscosityContrast::fill_cell(Workspace& w) const {
     if ((b - a) % 2 != 0) {
       ++w.unpaired;
     }
-    const int i = static_cast<int>(w.crossings[a].column % d.nx);
-    const int j = static_cast<int>(w.crossings[a].column / d.nx);
+    const int i = static_cast<int>(w.crossings[a].column & 0xffffffffu);
+    const int j = static_cast<int>(w.crossings[a].column >> 32);
     for (std::size_t q = a; q + 1 < b; q += 2) {
       const int k0 = static_cast<int>(std::ceil(w.crossings[q].z - 0.5));
       const int k1 = static_cast<int>(std::floor(w.crossings[q + 1].z - 0.5));

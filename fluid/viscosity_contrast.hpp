@@ -47,7 +47,7 @@ class ViscosityContrast {
 
  private:
   struct Crossing {
-    std::uint64_t column;  ///< (wrapped j) * nx + i
+    std::uint64_t column;  ///< (wrapped j) << 32 | i: sorts as (j, i), decodes without division
     double z;
   };
   /// One thread's buffers: cells are independent, so each thread takes whole cells.
@@ -55,9 +55,11 @@ class ViscosityContrast {
     std::vector<double> folded;       ///< one cell's markers folded into the box frame
     std::vector<Crossing> crossings;  ///< one cell's crossings
     std::vector<std::size_t> inside;  ///< nodes inside this thread's cells
+    std::vector<std::uint8_t> candidate;  ///< per triangle of the cell: may cross a column
     std::size_t unpaired = 0;
   };
   void rasterise_cell(const double* x, std::size_t cell, Workspace& w) const;
+  void mark_candidates(const std::uint32_t* tris, std::size_t faces, Workspace& w) const;
   void fill_cell(Workspace& w) const;
 
   const Lattice& lattice_;

@@ -242,37 +242,55 @@ std::vector<double> markers_everywhere(const Lattice& L, int count, unsigned see
   return pos;
 }
 
+/// Every node of a footprint with a non-zero weight is a node of stencil() with the same weight,
+/// and there are as many.
+template <typename Footprint, typename NodeWeight>
+void expect_same_nodes(const IbStencil& s, int W, NodeWeight node_weight, std::size_t m) {
+  int weighted = 0;  // z layers beyond a wall have weight zero in the footprint
+  for (int c = 0; c < W; ++c)
+    for (int b = 0; b < W; ++b)
+      for (int a = 0; a < W; ++a) {
+        const auto [node, w] = node_weight(a, b, c);
+        if (w == 0.0) continue;
+        ++weighted;
+        int found = -1;
+        for (int r = 0; r < s.count; ++r)
+          if (s.node[r] == node) found = r;
+        ASSERT_GE(found, 0) << "node " << node << " of marker " << m;
+        EXPECT_NEAR(w, s.weight[found], 1e-15) << W << "-point, marker " << m;
+      }
+  EXPECT_EQ(weighted, s.count) << "the footprint's nodes are the stencil's, marker " << m;
+}
+
 template <int W>
 void expect_footprint_is_stencil(const Lattice& L, IbKernel k, const std::vector<double>& pos) {
   const ImmersedBoundary ib(L, k);
-  int separable = 0, listed = 0;
+  int separable = 0, split = 0, listed = 0;
   for (std::size_t m = 0; m < pos.size() / 3; ++m) {
     IbFootprint<W> fp;
+    IbSplitFootprint<W> sp;
     IbStencil s;
     ASSERT_TRUE(ib.stencil(&pos[3 * m], s));
-    if (!ib.footprint<W>(&pos[3 * m], fp)) {
+    if (ib.footprint<W>(&pos[3 * m], fp)) {
+      ++separable;
+      expect_same_nodes<IbFootprint<W>>(s, W, [&](int a, int b, int c) {
+        return std::pair{fp.layer[c] + fp.row[b] + fp.x0 + a, fp.wx[a] * fp.wy[b] * fp.wz[c]};
+      }, m);
+    } else if (ib.split_footprint<W>(&pos[3 * m], sp)) {
+      ++split;
+      expect_same_nodes<IbSplitFootprint<W>>(s, W, [&](int a, int b, int c) {
+        const int part = a < sp.split ? 0 : 1;
+        return std::pair{sp.layer[c] + sp.row[part][b] + sp.x0[part] +
+                             static_cast<std::size_t>(a - part * sp.split),
+                         sp.wx[a] * sp.wy[part][b] * sp.wz[c]};
+      }, m);
+    } else {
       ++listed;
-      continue;
     }
-    ++separable;
-    int weighted = 0;  // z layers beyond a wall have weight zero in the footprint
-    for (int c = 0; c < W; ++c)
-      for (int b = 0; b < W; ++b)
-        for (int a = 0; a < W; ++a) {
-          const std::size_t node = fp.layer[c] + fp.row[b] + fp.x0 + a;
-          const double w = fp.wx[a] * fp.wy[b] * fp.wz[c];
-          if (w == 0.0) continue;
-          ++weighted;
-          int found = -1;
-          for (int r = 0; r < s.count; ++r)
-            if (s.node[r] == node) found = r;
-          ASSERT_GE(found, 0) << "node " << node << " of marker " << m;
-          EXPECT_NEAR(w, s.weight[found], 1e-15) << W << "-point, marker " << m;
-        }
-    EXPECT_EQ(weighted, s.count) << "the footprint's nodes are the stencil's, marker " << m;
   }
   EXPECT_GT(separable, 100) << W << "-point";
-  EXPECT_GT(listed, 10) << W << "-point: markers by the pillar, the walls and the x face";
+  EXPECT_GT(split, 10) << W << "-point: markers across the shifted x face";
+  EXPECT_GT(listed, 10) << W << "-point: markers by the pillar";
 }
 
 TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
