@@ -133,12 +133,12 @@ inline void interpolate_footprint(const IbFootprint<W>& p, const double* const v
 /// rows and weights (as ImmersedBoundary::stencil). Still separable; no vector path (rare).
 template <int W>
 struct IbSplitFootprint {
-  double wx[W], wz[W];        ///< wx carries the normalisation
-  double wy[2][W];            ///< y weights of each part
-  std::size_t row[2][W];      ///< rows of each part
+  double wx[W], wz[W];    ///< wx carries the normalisation
+  double wy[2][W];        ///< y weights of each part
+  std::size_t row[2][W];  ///< rows of each part
   std::size_t layer[W];
-  std::size_t x0[2];          ///< padded x offset of each part's first column
-  int split;                  ///< first column of the second part, 1..W-1
+  std::size_t x0[2];  ///< padded x offset of each part's first column
+  int split;          ///< first column of the second part, 1..W-1
 };
 
 template <int W>

@@ -197,7 +197,8 @@ bool ImmersedBoundary::split_footprint(const double* p, IbSplitFootprint<W>& fp)
       const int jw = jw0 + b < d.ny ? jw0 + b : jw0 + b - d.ny;
       fp.row[part][b] = static_cast<std::size_t>(jw + 1) * px;
       for (int a = 0; a < columns; ++a)
-        if (column_solid_[fp.row[part][b] + fp.x0[part] + static_cast<std::size_t>(a)]) return false;
+        if (column_solid_[fp.row[part][b] + fp.x0[part] + static_cast<std::size_t>(a)])
+          return false;
     }
   }
   double sz = 0, total = 0;

@@ -215,7 +215,7 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
       energy += law_.energy(q.z()) + law_.energy(box_.depth - q.z());
       fi.z() += law_.force(q.z()) - law_.force(box_.depth - q.z());
     }
-    if (p_.pillar) {
+    if (p_.pillar && box_.pillar_within(q.x(), q.y(), rc)) {
       const double s = box_.pillar_distance(q.x(), q.y());
       if (s < rc) {
         energy += law_.energy(s);

@@ -47,7 +47,10 @@ void StabilityGuard::check(const CellSet& cells, std::int64_t step, int first_ce
     for (int i = 0; i < n; ++i) {
       const Eigen::Vector3d p = x.col(static_cast<Eigen::Index>(k) * n + i);
       const auto w = wrap_into_box(box_, {p.x(), p.y(), p.z()}).position;
-      const double depth = std::max({-box_.pillar_distance(w[0], w[1]), -w[2], w[2] - box_.depth});
+      // Only a positive depth counts: far from the pillar its (negative) term cannot be it.
+      const double in_pillar =
+          box_.pillar_within(w[0], w[1], 0.0) ? -box_.pillar_distance(w[0], w[1]) : -1.0;
+      const double depth = std::max({in_pillar, -w[2], w[2] - box_.depth});
       if (depth > deepest) {
         deepest = depth, node = i;
       }

@@ -19,6 +19,16 @@ double DldCell::pillar_distance(double x, double y) const {
   return best;
 }
 
+bool DldCell::pillar_within(double x, double y, double range) const {
+  const double reach = radius + range;
+  for (int ix = -1; ix <= 1; ++ix) {
+    double dy = y - (pillar_y() + ix * shift);
+    dy -= lambda * std::round(dy / lambda);  // the image pillar_distance uses
+    if (std::abs(x - (pillar_x() + ix * lambda)) < reach && std::abs(dy) < reach) return true;
+  }
+  return false;
+}
+
 Wrapped wrap_into_box(const DldCell& cell, std::array<double, 3> p) {
   Wrapped w{p, 0, 0};
   auto& q = w.position;

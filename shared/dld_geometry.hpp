@@ -22,6 +22,9 @@ struct DldCell {
   /// Signed distance from (x, y) to the pillar surface in the x-y plane; negative inside.
   /// Uses the nearest periodic image of the pillar, so it is valid anywhere in the box.
   double pillar_distance(double x, double y) const;
+  /// False only where pillar_distance(x, y) >= range for sure (every pillar image is at least
+  /// radius + range away along x or y): callers skip the square roots for the nodes far away.
+  bool pillar_within(double x, double y, double range) const;
   bool inside_pillar(double x, double y) const { return pillar_distance(x, y) < 0.0; }
 };
 

@@ -273,17 +273,23 @@ void expect_footprint_is_stencil(const Lattice& L, IbKernel k, const std::vector
     ASSERT_TRUE(ib.stencil(&pos[3 * m], s));
     if (ib.footprint<W>(&pos[3 * m], fp)) {
       ++separable;
-      expect_same_nodes<IbFootprint<W>>(s, W, [&](int a, int b, int c) {
-        return std::pair{fp.layer[c] + fp.row[b] + fp.x0 + a, fp.wx[a] * fp.wy[b] * fp.wz[c]};
-      }, m);
+      expect_same_nodes<IbFootprint<W>>(
+          s, W,
+          [&](int a, int b, int c) {
+            return std::pair{fp.layer[c] + fp.row[b] + fp.x0 + a, fp.wx[a] * fp.wy[b] * fp.wz[c]};
+          },
+          m);
     } else if (ib.split_footprint<W>(&pos[3 * m], sp)) {
       ++split;
-      expect_same_nodes<IbSplitFootprint<W>>(s, W, [&](int a, int b, int c) {
-        const int part = a < sp.split ? 0 : 1;
-        return std::pair{sp.layer[c] + sp.row[part][b] + sp.x0[part] +
-                             static_cast<std::size_t>(a - part * sp.split),
-                         sp.wx[a] * sp.wy[part][b] * sp.wz[c]};
-      }, m);
+      expect_same_nodes<IbSplitFootprint<W>>(
+          s, W,
+          [&](int a, int b, int c) {
+            const int part = a < sp.split ? 0 : 1;
+            return std::pair{sp.layer[c] + sp.row[part][b] + sp.x0[part] +
+                                 static_cast<std::size_t>(a - part * sp.split),
+                             sp.wx[a] * sp.wy[part][b] * sp.wz[c]};
+          },
+          m);
     } else {
       ++listed;
     }
