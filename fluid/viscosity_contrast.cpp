@@ -237,15 +237,61 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
   }
 }
 
+// Orders the crossings by column (j, i) and, within a column, by height: a counting sort over the
+// columns the cell covers (a few hundred; a comparison sort of its ~10^3 crossings cost more than
+// finding them), then an insertion sort of each column's few heights.
+void ViscosityContrast::sort_crossings(Workspace& w) const {
+  auto& c = w.crossings;
+  if (c.empty()) {
+    return;
+  }
+  std::uint32_t i_lo = ~0u, i_hi = 0, j_lo = ~0u, j_hi = 0;
+  for (const Crossing& x : c) {
+    const auto i = static_cast<std::uint32_t>(x.column & 0xffffffffu);
+    const auto j = static_cast<std::uint32_t>(x.column >> 32);
+    i_lo = std::min(i_lo, i), i_hi = std::max(i_hi, i);
+    j_lo = std::min(j_lo, j), j_hi = std::max(j_hi, j);
+  }
+  const std::size_t width = i_hi - i_lo + 1, bins = width * (j_hi - j_lo + 1);
+  auto bin = [&](const Crossing& x) {
+    return (static_cast<std::size_t>(x.column >> 32) - j_lo) * width +
+           (static_cast<std::size_t>(x.column & 0xffffffffu) - i_lo);
+  };
+  w.bin_start.assign(bins + 1, 0);
+  for (const Crossing& x : c) {
+    ++w.bin_start[bin(x) + 1];
+  }
+  for (std::size_t b = 1; b <= bins; ++b) {
+    w.bin_start[b] += w.bin_start[b - 1];
+  }
+  w.sorted.resize(c.size());
+  for (const Crossing& x : c) {
+    w.sorted[w.bin_start[bin(x)]++] = x;
+  }
+  // Each bin is now [bin_start[b - 1], bin_start[b]); sort its heights.
+  std::size_t begin = 0;
+  for (std::size_t b = 0; b < bins; ++b) {
+    const std::size_t end = w.bin_start[b];
+    for (std::size_t q = begin + 1; q < end; ++q) {
+      const Crossing x = w.sorted[q];
+      std::size_t r = q;
+      for (; r > begin && w.sorted[r - 1].z > x.z; --r) {
+        w.sorted[r] = w.sorted[r - 1];
+      }
+      w.sorted[r] = x;
+    }
+    begin = end;
+  }
+  c.swap(w.sorted);
+}
+
 // Sorts the crossings by column and height and marks the nodes between the 1st and 2nd, 3rd and
 // 4th, ... crossing of each column. z is unwrapped, so a cell across a periodic z face still pairs
 // up; its nodes are wrapped when marked.
 void ViscosityContrast::fill_cell(Workspace& w) const {
   const Domain& d = lattice_.domain();
   const std::uint8_t* solid = lattice_.solid_mask().data();
-  std::sort(w.crossings.begin(), w.crossings.end(), [](const Crossing& a, const Crossing& b) {
-    return a.column != b.column ? a.column < b.column : a.z < b.z;
-  });
+  sort_crossings(w);
   std::size_t a = 0;
   while (a < w.crossings.size()) {
     std::size_t b = a;

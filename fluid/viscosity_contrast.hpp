@@ -52,14 +52,17 @@ class ViscosityContrast {
   };
   /// One thread's buffers: cells are independent, so each thread takes whole cells.
   struct Workspace {
-    std::vector<double> folded;       ///< one cell's markers folded into the box frame
-    std::vector<Crossing> crossings;  ///< one cell's crossings
-    std::vector<std::size_t> inside;  ///< nodes inside this thread's cells
+    std::vector<double> folded;           ///< one cell's markers folded into the box frame
+    std::vector<Crossing> crossings;      ///< one cell's crossings
+    std::vector<std::size_t> inside;      ///< nodes inside this thread's cells
     std::vector<std::uint8_t> candidate;  ///< per triangle of the cell: may cross a column
+    std::vector<Crossing> sorted;         ///< sort_crossings' buffer
+    std::vector<std::size_t> bin_start;   ///< sort_crossings' bins
     std::size_t unpaired = 0;
   };
   void rasterise_cell(const double* x, std::size_t cell, Workspace& w) const;
   void mark_candidates(const std::uint32_t* tris, std::size_t faces, Workspace& w) const;
+  void sort_crossings(Workspace& w) const;
   void fill_cell(Workspace& w) const;
 
   const Lattice& lattice_;
