@@ -81,11 +81,6 @@ ViscosityContrast::ViscosityContrast(const Lattice& lattice, double tau_out, dou
 
 void ViscosityContrast::update(std::span<const double> positions, RelaxationField& field) {
   const RelaxationField::Value outside = field.value_of(tau_out_), inside = field.value_of(tau_in_);
-  for (std::size_t n : inside_) {
-    field.set(n, outside);
-  }
-  inside_.clear();
-  unpaired_ = 0;
   const std::size_t total_nodes = first_node_.empty() ? 0 : first_node_.back() + cell_nodes_.back();
   if (positions.size() != 3 * total_nodes) {
     throw std::invalid_argument("viscosity contrast: " + std::to_string(positions.size() / 3) +
@@ -97,12 +92,20 @@ void ViscosityContrast::update(std::span<const double> positions, RelaxationFiel
     work_.resize(static_cast<std::size_t>(threads));
   }
   const auto cells = static_cast<std::int64_t>(cell_nodes_.size());
+  const auto was_inside = static_cast<std::int64_t>(inside_.size());
 #pragma omp parallel num_threads(threads)
   {
     Workspace& w = work_[static_cast<std::size_t>(omp_get_thread_num())];
     w.inside.clear();
     w.unpaired = 0;
+    // The nodes inside at the last update go back to tau_out first (the loop's barrier).
 #pragma omp for schedule(static)
+    for (std::int64_t q = 0; q < was_inside; ++q) {
+      field.set(inside_[static_cast<std::size_t>(q)], outside);
+    }
+    // Cells differ in cost (one across the x face is rasterised in two boxes): dynamic. The
+    // field does not depend on which thread takes which cell.
+#pragma omp for schedule(dynamic, 1)
     for (std::int64_t c = 0; c < cells; ++c) {
       const auto cell = static_cast<std::size_t>(c);
       rasterise_cell(positions.data() + 3 * first_node_[cell], cell, w);
@@ -112,6 +115,8 @@ void ViscosityContrast::update(std::span<const double> positions, RelaxationFiel
       field.set(n, inside);
     }
   }
+  inside_.clear();
+  unpaired_ = 0;
   for (const Workspace& w : work_) {
     inside_.insert(inside_.end(), w.inside.begin(), w.inside.end());
     unpaired_ += w.unpaired;
