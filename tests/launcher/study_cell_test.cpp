@@ -77,6 +77,7 @@ TEST(StudyCell, EverySettingSimulatesTheSameCell) {
         EXPECT_EQ(scene.lattice.tau, dld::ReferenceSetting::kTau);
         EXPECT_EQ(*scene.drive.reynolds, dld::ReferenceSetting::kReynolds);
         expect_same(c.kappa_alpha_lu, 0.5, run.name + ": kappa_alpha at the reference setting");
+        expect_same(c.area_ratio, 350.28306389557434 * c.ca, run.name + ": C = 350.283 Ca");
         expect_same(c.bending, 2.5e-3, run.name + ": bending");
         continue;
       }
