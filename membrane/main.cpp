@@ -3,6 +3,7 @@
 // [membrane.relax]) it runs without fluid; otherwise it checks the scene, meshes the cells and
 // prints the resolved membrane set-up (coupled runs are started by the coupler's launcher).
 #include <fmt/format.h>
+#include <omp.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -176,6 +177,10 @@ static int run_main(int argc, char** argv) {
       return 0;
     }
     if (!coupled.endpoint.empty()) {
+      // A coupled run's programs take turns on the same cores: both honour [run] threads, so
+      // that runs side by side (dld-sweep --jobs) do not oversubscribe them.
+      if (scene.run.threads > 0) omp_set_num_threads(scene.run.threads);
+      spdlog::info("{} OpenMP threads", omp_get_max_threads());
       if (coupled.peer >= coupled.peers)
         throw dld::InputError(
             fmt::format("--peer {}: expected below --peers {}", coupled.peer, coupled.peers));

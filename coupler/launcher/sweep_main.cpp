@@ -90,19 +90,32 @@ int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::st
   return dld::coupler::wait_child(c);
 }
 
+/// Runs side by side, one thread each, give more steps per second in all than one run on every
+/// core (2-core machine, 2026-12-01: 17 cells 1.17-1.19x, 3 cells 1.34-1.40x; docs/performance.md):
+/// as many runs at a time as the cores hold at the runs' [run] threads (0 = every core: one).
+int default_jobs(const std::deque<const StudyRun*>& queue) {
+  const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  if (queue.empty()) return 1;
+  const auto t = queue.front()->scene["run"]["threads"].value_or(std::int64_t{0});
+  const int threads = t > 0 ? static_cast<int>(t) : cores;
+  return std::clamp(cores / threads, 1, static_cast<int>(queue.size()));
+}
+
 }  // namespace
 
 static int run_main(int argc, char** argv) {
   CLI::App app{"dld-sweep: the runs of a study file, K at a time, resumable"};
   std::string study_path, resolution, slurm;
-  int jobs = 1, index = -1;
+  int jobs = 0, index = -1;  // jobs 0: one run per core, see default_jobs
   std::vector<std::string> only;
   bool list = false, summary_only = false, dry = false;
   app.add_option("study", study_path, "study file (TOML), e.g. configs/study/study.toml")
       ->required();
   app.add_option("--resolution", resolution,
                  "a [study.resolution.NAME] of the study file (coarser lattice and mesh)");
-  app.add_option("--jobs,-j", jobs, "runs at the same time")->check(CLI::Range(1, 1024));
+  app.add_option("--jobs,-j", jobs,
+                 "runs at the same time (default: cores / the runs' [run] threads)")
+      ->check(CLI::Range(1, 1024));
   app.add_option("--index", index, "run only the run with this index (0-based; SLURM arrays)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--only", only, "run only the runs with these names (see --list)");
@@ -138,8 +151,8 @@ static int run_main(int argc, char** argv) {
     const std::string self = fs::read_symlink("/proc/self/exe").string();
     if (!slurm.empty()) {
       fs::create_directories(fs::absolute(study.output) / "slurm");
-      std::ofstream(slurm) << dld::coupler::slurm_script(study, resolution, runs.size(), jobs,
-                                                         self);
+      std::ofstream(slurm) << dld::coupler::slurm_script(
+          study, resolution, runs.size(), jobs > 0 ? jobs : static_cast<int>(runs.size()), self);
       fs::permissions(slurm, fs::perms::owner_exec, fs::perm_options::add);
       fmt::print("wrote {} ({} runs): submit with  sbatch {}\n", slurm, runs.size(), slurm);
       return 0;
@@ -174,6 +187,7 @@ static int run_main(int argc, char** argv) {
       }
       queue.push_back(r);
     }
+    if (jobs == 0) jobs = default_jobs(queue);
     fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time\n",
                study.name, resolution.empty() ? "default resolution" : resolution, chosen.size(),
                done_before, queue.size(), jobs);
