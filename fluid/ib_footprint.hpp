@@ -141,33 +141,34 @@ struct IbSplitFootprint {
   int split;          ///< first column of the second part, 1..W-1
 };
 
-template <int W>
-inline void spread_footprint(const IbSplitFootprint<W>& p, const double* f,
-                             double* const field[3]) {
+/// Calls visit(node, weight) for every node of a split footprint.
+template <int W, typename Visit>
+inline void for_each_node(const IbSplitFootprint<W>& p, Visit visit) {
   for (int c = 0; c < W; ++c)
     for (int b = 0; b < W; ++b)
       for (int a = 0; a < W; ++a) {
         const int part = a < p.split ? 0 : 1;
-        const std::size_t n =
-            p.layer[c] + p.row[part][b] + p.x0[part] + static_cast<std::size_t>(a - part * p.split);
-        const double w = p.wx[a] * p.wy[part][b] * p.wz[c];
-        for (int d = 0; d < 3; ++d) field[d][n] += w * f[d];
+        visit(
+            p.layer[c] + p.row[part][b] + p.x0[part] + static_cast<std::size_t>(a - part * p.split),
+            p.wx[a] * p.wy[part][b] * p.wz[c]);
       }
+}
+
+template <int W>
+inline void spread_footprint(const IbSplitFootprint<W>& p, const double* f,
+                             double* const field[3]) {
+  for_each_node(p, [&](std::size_t n, double w) {
+    for (int d = 0; d < 3; ++d) field[d][n] += w * f[d];
+  });
 }
 
 template <int W>
 inline void interpolate_footprint(const IbSplitFootprint<W>& p, const double* const v[3],
                                   double* u) {
   u[0] = u[1] = u[2] = 0.0;
-  for (int c = 0; c < W; ++c)
-    for (int b = 0; b < W; ++b)
-      for (int a = 0; a < W; ++a) {
-        const int part = a < p.split ? 0 : 1;
-        const std::size_t n =
-            p.layer[c] + p.row[part][b] + p.x0[part] + static_cast<std::size_t>(a - part * p.split);
-        const double w = p.wx[a] * p.wy[part][b] * p.wz[c];
-        for (int d = 0; d < 3; ++d) u[d] += w * v[d][n];
-      }
+  for_each_node(p, [&](std::size_t n, double w) {
+    for (int d = 0; d < 3; ++d) u[d] += w * v[d][n];
+  });
 }
 
 }  // namespace dld::fluid

@@ -23,6 +23,18 @@ std::vector<std::pair<std::string, AnyModel>> all_models(const TriMesh& ref) {
 double energy(const AnyModel& m, const Points& x) {
   return std::visit([&](const auto& model) { return model.energy(x); }, m);
 }
+/// Minus the central-difference gradient of energy(x) with step h.
+template <typename Energy>
+Points finite_difference_forces(Energy energy_of, const Points& x, double h) {
+  Points fd(3, x.cols());
+  for (int i = 0; i < x.size(); ++i) {
+    Points xp = x, xm = x;
+    xp.data()[i] += h;
+    xm.data()[i] -= h;
+    fd.data()[i] = -(energy_of(xp) - energy_of(xm)) / (2 * h);
+  }
+  return fd;
+}
 Points forces(const AnyModel& m, const Points& x) {
   Points f = Points::Zero(3, x.cols());
   std::visit([&](const auto& model) { model.add_forces(x, f); }, m);
@@ -50,14 +62,8 @@ TEST_P(EveryModel, ForceIsMinusFiniteDifferenceGradient) {
     x.row(2) *= 0.8;
     x = test::perturbed(x, 0.05, seed);
     const Points f = forces(model, x);
-    Points fd(3, x.cols());
-    const double h = 1e-5;
-    for (int i = 0; i < x.size(); ++i) {
-      Points xp = x, xm = x;
-      xp.data()[i] += h;
-      xm.data()[i] -= h;
-      fd.data()[i] = -(energy(model, xp) - energy(model, xm)) / (2 * h);
-    }
+    const Points fd =
+        finite_difference_forces([&](const Points& y) { return energy(model, y); }, x, 1e-5);
     const double rel = (f - fd).norm() / f.norm();
     std::printf("%s seed %u: |F + grad E_fd| / |F| = %.2e\n", name.c_str(), seed, rel);
     EXPECT_LT(rel, 1e-6);
@@ -127,14 +133,8 @@ TEST(BendingModel, ForcesOfStronglyBentHingesAreMinusTheEnergyGradient) {
   EXPECT_GT(far, 50);
   Points f = Points::Zero(3, x.cols());
   model.add_forces(x, f);
-  Points fd(3, x.cols());
-  const double h = 1e-6;
-  for (int i = 0; i < x.size(); ++i) {
-    Points xp = x, xm = x;
-    xp.data()[i] += h;
-    xm.data()[i] -= h;
-    fd.data()[i] = -(model.energy(xp) - model.energy(xm)) / (2 * h);
-  }
+  const Points fd =
+      finite_difference_forces([&](const Points& y) { return model.energy(y); }, x, 1e-6);
   EXPECT_LT((f - fd).norm() / f.norm(), 1e-6);
 }
 
