@@ -112,7 +112,7 @@ double BendingModel::energy(const Eigen::Ref<const Points>& x) const {
 // NOLINTNEXTLINE(performance-unnecessary-value-param)
 double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const {
   const int n = static_cast<int>(hinges_.size());
-  static thread_local Eigen::Matrix3Xd scratch;  // per calling thread: 4 slots per hinge
+  static thread_local Eigen::Matrix3Xd scratch;        // per calling thread: 4 slots per hinge
   static thread_local std::vector<std::uint8_t> bent;  // hinges for the atan2 path
   scratch.resize(3, 4 * Eigen::Index{n});
   bent.resize(static_cast<std::size_t>(n));
@@ -128,9 +128,8 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
 #pragma omp simd reduction(+ : en)
   for (int k = 0; k < n; ++k) {
     double dt = 0.0;
-    big[k] = hinge_forces<true>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * k, dt)
-                 ? 0
-                 : 1;
+    big[k] =
+        hinge_forces<true>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * k, dt) ? 0 : 1;
     en += dt * dt;
   }
   for (int k = 0; k < n; ++k) {
