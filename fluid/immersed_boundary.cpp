@@ -190,7 +190,7 @@ bool ImmersedBoundary::split_footprint(const double* p, IbSplitFootprint<W>& fp)
     const int j0 = axis_weights<W>(kernel_, Y - box * d.shift, fp.wy[part]);
     const int jw0 = ((j0 % d.ny) + d.ny) % d.ny;
     const int first = part == 0 ? i0 - box * d.nx : 0;  // the part's first column in its box
-    fp.x0[part] = static_cast<std::size_t>(first + 1);
+    fp.x0[part] = static_cast<std::size_t>(first) + 1;
     const int columns = part == 0 ? fp.split : W - fp.split;
     for (int b = 0; b < W; ++b) {
       sy[part] += fp.wy[part][b];
@@ -240,7 +240,7 @@ bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
   // conservative and interpolation a weighted mean to round-off.
   const double inv = 1.0 / (sx * sy * sz);
   for (double& w : fp.wx) w *= inv;
-  fp.x0 = static_cast<std::size_t>(i0 + 1);
+  fp.x0 = static_cast<std::size_t>(i0) + 1;
   return true;
 }
 

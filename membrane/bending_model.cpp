@@ -128,14 +128,17 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
 #pragma omp simd reduction(+ : en)
   for (int k = 0; k < n; ++k) {
     double dt = 0.0;
-    big[k] =
-        hinge_forces<true>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * k, dt) ? 0 : 1;
+    big[k] = hinge_forces<true>(h[k], th0[k], c0[k], s0[k], X, stride, k2,
+                                slot + 12 * std::ptrdiff_t{k}, dt)
+                 ? 0
+                 : 1;
     en += dt * dt;
   }
   for (int k = 0; k < n; ++k) {
     if (!big[k]) continue;
     double dt = 0.0;
-    hinge_forces<false>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * k, dt);
+    hinge_forces<false>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * std::ptrdiff_t{k},
+                        dt);
     en += dt * dt;
   }
   gather_.add(scratch, f);

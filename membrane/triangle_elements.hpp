@@ -98,7 +98,7 @@ class TriangleElements {
       const double b10 = d10 * s00 + d11 * s10, b11 = d10 * s01 + d11 * s11;  // row 1
       const double m00 = b00 * d00 + b01 * d01, m01 = b00 * d10 + b01 * d11;
       const double m11 = b10 * d10 + b11 * d11;
-      double* out = slot + 9 * k;
+      double* out = slot + 9 * std::ptrdiff_t{k};
       for (int a = 0; a < 3; ++a) {
         const double f1 = -2.0 * t.area0 * (m00 * e1[a] + m01 * e2[a]);
         const double f2 = -2.0 * t.area0 * (m01 * e1[a] + m11 * e2[a]);
