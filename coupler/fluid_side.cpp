@@ -345,6 +345,8 @@ void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
     data = peer.segment.data();
   }
   const std::size_t values = 3 * peer.nodes;
+  require_finite(data, peer.nodes, "positions", link, step_);
+  require_finite(data + values * sizeof(double), peer.nodes, "forces", link, step_);
   if (peers_.size() == 1 && reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
     // The frame's bytes are the doubles the membrane sent (same layout, little-endian host).
     const auto* doubles = reinterpret_cast<const double*>(data);

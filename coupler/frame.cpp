@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstring>
 
 #include "coupler/error.hpp"
@@ -176,6 +177,25 @@ const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& head
                                 to_string(header.type), header.payload_bytes));
   }
   return at + 8;
+}
+
+void require_finite(const std::byte* data, std::size_t nodes, std::string_view field,
+                    const Link& link, std::uint64_t step) {
+  constexpr std::size_t kChunk = 512;  // values checked per copy (the array may be unaligned)
+  double v[kChunk];
+  for (std::size_t first = 0; first < 3 * nodes; first += kChunk) {
+    const std::size_t n = std::min(kChunk, 3 * nodes - first);
+    std::memcpy(v, data + first * sizeof(double), n * sizeof(double));
+    bool finite = true;
+    for (std::size_t i = 0; i < n; ++i) finite &= std::isfinite(v[i]);
+    if (finite) continue;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(v[i])) {
+        throw_malformed(link, step, field,
+                        fmt::format("node {} has a non-finite value ({})", (first + i) / 3, v[i]));
+      }
+    }
+  }
 }
 
 std::string read_error_text(const zmq::message_t& frame, const FrameHeader& header) {

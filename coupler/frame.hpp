@@ -92,4 +92,10 @@ std::string read_error_text(const zmq::message_t& frame, const FrameHeader& head
 [[noreturn]] void throw_malformed(const Link& link, std::uint64_t step, std::string_view field,
                                   std::string_view detail);
 
+/// Refuses (throw_malformed, naming `field` and the first bad node) a node array of 3 x `nodes`
+/// doubles at `data` (any alignment) holding a NaN or an infinity: a peer's non-finite values
+/// would otherwise spread through the lattice and into its checkpoints.
+void require_finite(const std::byte* data, std::size_t nodes, std::string_view field,
+                    const Link& link, std::uint64_t step);
+
 }  // namespace dld::coupler

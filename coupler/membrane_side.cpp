@@ -240,6 +240,7 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
     if (shared_) {
       data = segment_.data() + 2 * bytes;
     }
+    require_finite(data, nodes_, "velocities", link, step_);
     ++step_;
     if (reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
       return std::span<const double>(reinterpret_cast<const double*>(data), 3 * nodes_);

@@ -9,8 +9,10 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "coupler/endpoint.hpp"
@@ -25,6 +27,48 @@
 #include "fluid/viscosity_contrast.hpp"
 
 namespace dld::fluid {
+
+namespace {
+
+/// Stops the run when the lattice is no longer finite (its mass or momentum after the step):
+/// nothing after it may reach a checkpoint or the membranes.
+void require_finite_lattice(const FluidSolver& solver) {
+  const FlowSums& s = solver.sums();
+  if (!std::isfinite(s.mass + s.momentum_x + s.momentum_y + s.momentum_z)) {
+    throw std::runtime_error(fmt::format(
+        "fluid: the lattice is not finite after step {} (mass {}, momentum x {}); no checkpoint "
+        "written after the last one",
+        solver.steps(), s.mass, s.momentum_x));
+  }
+}
+
+/// Speeds far beyond the lattice's (|u| of a few 0.01 at most in a valid run; the speed of sound
+/// is 0.577) come only from forces the lattice cannot take: stop, naming the marker's peer.
+constexpr double kMaxMarkerSpeedLu = 0.2;
+
+void require_resolved_velocities(std::span<const double> u, const coupler::FluidSide& side,
+                                 std::int64_t step) {
+  double worst = 0.0;
+  std::size_t at = 0;
+  for (std::size_t m = 0; 3 * m < u.size(); ++m) {
+    const double s2 = u[3 * m] * u[3 * m] + u[3 * m + 1] * u[3 * m + 1] + u[3 * m + 2] * u[3 * m + 2];
+    if (!(s2 <= worst)) {  // NaN counts as the worst
+      worst = s2, at = m;
+      if (!std::isfinite(s2)) break;
+    }
+  }
+  if (std::isfinite(worst) && worst <= kMaxMarkerSpeedLu * kMaxMarkerSpeedLu) return;
+  std::size_t peer = 0;
+  while (peer + 1 < side.peer_count() && side.node_offset(peer + 1) <= at) ++peer;
+  throw std::runtime_error(fmt::format(
+      "fluid: velocity {:.3g} lattice units at node {} of {} after step {} (limit {}): the "
+      "lattice cannot take the forces it sent",
+      std::sqrt(worst), at - side.node_offset(peer), side.peer_label(peer), step,
+      kMaxMarkerSpeedLu));
+}
+
+}  // namespace
+
 namespace {
 // Ctrl-C (or dld-run passing one on) ends the run after the current step: the fluid tells every
 // membrane program to stop at the same step, so their files end together.
@@ -117,8 +161,10 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       lap(t0, t_contrast);
       solver.step();
       lap(t0, t_fluid);
+      require_finite_lattice(solver);
       velocity.resize(x.size());
       ib.interpolate(x, solver.velocity_field(), velocity);
+      require_resolved_velocities(velocity, side, solver.steps());
       side.send_velocities(velocity);
       lap(t0, t_interp);
       ++steps;

@@ -3,6 +3,7 @@
 // refused with a message naming the side, the step and the field, and the sender is told.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "coupler/shared_segment.hpp"
@@ -89,7 +90,21 @@ INSTANTIATE_TEST_SUITE_P(
                  kPrefix + "field 'payload_bytes': 2 nodes need 104 bytes in a step frame, got "
                            "152"},
         BadFrame{"OutOfOrderStep", [] { return encode_step(5, kTwoNodes, kTwoNodes); },
-                 kPrefix + "field 'step': expected 0, got 5"}),
+                 kPrefix + "field 'step': expected 0, got 5"},
+        BadFrame{"NaNForce",
+                 [] {
+                   std::vector<double> f(kTwoNodes);
+                   f[4] = std::nan("");
+                   return encode_step(0, kTwoNodes, f);
+                 },
+                 kPrefix + "field 'forces': node 1 has a non-finite value (nan)"},
+        BadFrame{"InfinitePosition",
+                 [] {
+                   std::vector<double> x(kTwoNodes);
+                   x[0] = -HUGE_VAL;
+                   return encode_step(0, x, kTwoNodes);
+                 },
+                 kPrefix + "field 'positions': node 0 has a non-finite value (-inf)"}),
     [](const auto& p) { return std::string(p.param.name); });
 
 TEST(MalformedHandshake, ShortHelloIsRefused) {
@@ -180,7 +195,14 @@ INSTANTIATE_TEST_SUITE_P(
                  kToMembrane + "field 'payload_bytes': header announces 56 bytes but the "
                                "velocities frame carries 6"},
         BadReply{"WrongType", [] { return encode_step(0, kTwoNodes, kTwoNodes); },
-                 kToMembrane + "field 'type': expected velocities, shutdown or error, got step"}),
+                 kToMembrane + "field 'type': expected velocities, shutdown or error, got step"},
+        BadReply{"NaNVelocity",
+                 [] {
+                   std::vector<double> u(kTwoNodes);
+                   u[5] = std::nan("");
+                   return encode_velocities(0, u);
+                 },
+                 kToMembrane + "field 'velocities': node 1 has a non-finite value (nan)"}),
     [](const auto& p) { return std::string(p.param.name); });
 
 }  // namespace
