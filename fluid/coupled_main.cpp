@@ -51,7 +51,8 @@ void require_resolved_velocities(std::span<const double> u, const coupler::Fluid
   double worst = 0.0;
   std::size_t at = 0;
   for (std::size_t m = 0; 3 * m < u.size(); ++m) {
-    const double s2 = u[3 * m] * u[3 * m] + u[3 * m + 1] * u[3 * m + 1] + u[3 * m + 2] * u[3 * m + 2];
+    const double s2 =
+        u[3 * m] * u[3 * m] + u[3 * m + 1] * u[3 * m + 1] + u[3 * m + 2] * u[3 * m + 2];
     if (!(s2 <= worst)) {  // NaN counts as the worst
       worst = s2, at = m;
       if (!std::isfinite(s2)) break;

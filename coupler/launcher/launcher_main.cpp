@@ -240,8 +240,12 @@ static int run_main(int argc, char** argv) {
     std::error_code ignored;  // none there, or one this run cannot remove: merging will say so
     fs::remove(merged, ignored);
     signal(SIGINT, on_sigint);
+    signal(SIGTERM, on_sigint);  // SLURM's way to end a job: the same clean stop as Ctrl-C
     std::vector<dld::coupler::Child> children;
-    children.push_back(dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log"));
+    // Should dld-run die without stopping them (SIGKILL), the fluid gets what Ctrl-C sends it
+    // and ends the run for every program at one step, with checkpoints.
+    children.push_back(
+        dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log", SIGINT));
     for (int k = 0; k < peers; ++k) {
       children.push_back(dld::coupler::start_child(fmt::format("{}-{}", membrane, k),
                                                    commands[k + 1],

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,12 +17,13 @@
 namespace dld::coupler {
 
 Child start_child(const std::string& name, const std::vector<std::string>& argv,
-                  const std::string& log) {
+                  const std::string& log, int parent_death_signal) {
   Child c{name, log};
   const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd < 0) {
     throw InputError(fmt::format("{}: cannot create log file", log));
   }
+  const pid_t parent = getpid();
   c.pid = fork();
   if (c.pid < 0) {
     throw std::runtime_error("fork failed");
@@ -31,6 +33,10 @@ Child start_child(const std::string& name, const std::vector<std::string>& argv,
     dup2(fd, STDERR_FILENO);
     ::close(fd);
     setpgid(0, 0);  // Ctrl-C reaches the launcher only; it decides how the children stop
+    if (parent_death_signal != 0) {
+      prctl(PR_SET_PDEATHSIG, parent_death_signal);
+      if (getppid() != parent) raise(parent_death_signal);  // the launcher died before prctl
+    }
     std::vector<char*> args;
     args.reserve(argv.size() + 1);
     for (const auto& a : argv) {

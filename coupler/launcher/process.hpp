@@ -18,8 +18,10 @@ struct Child {
 
 /// Starts argv[0] with the given arguments; stdout and stderr go to child.log (and, when `echo`
 /// is true, to the launcher's terminal as well through `tee`-like forwarding by the caller).
+/// With `parent_death_signal` (e.g. SIGINT) the child gets that signal when the launcher dies,
+/// however it dies (SIGKILL included), so that it never runs on unattended.
 Child start_child(const std::string& name, const std::vector<std::string>& argv,
-                  const std::string& log);
+                  const std::string& log, int parent_death_signal = 0);
 /// Updates running/exit_code without blocking; true if the child ended in this call.
 bool poll_child(Child& c);
 void signal_child(const Child& c, int sig);

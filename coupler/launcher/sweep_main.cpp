@@ -224,7 +224,7 @@ static int run_main(int argc, char** argv) {
           continue;
         }
         running.push_back(
-            {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string()),
+            {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string(), SIGTERM),
              std::chrono::steady_clock::now()});
       }
       if (dry) {

@@ -50,9 +50,14 @@ class HostilePeer : public ::testing::Test {
          (dir_ / "fluid.h5").string(), "--checkpoint", checkpoint(), "--checkpoint-every", "1"},
         (dir_ / "fluid.log").string());
     const dld::Scene scene = dld::load_scene(scene_);
-    dld::coupler::MembraneSide membrane(
-        {dld::coupler::scene_identity(scene, 1), dld::coupler::peer_endpoints(endpoint, 1)[0],
-         "membrane-0", 0, 1, 0, {4}, {}});
+    dld::coupler::MembraneSide membrane({dld::coupler::scene_identity(scene, 1),
+                                         dld::coupler::peer_endpoints(endpoint, 1)[0],
+                                         "membrane-0",
+                                         0,
+                                         1,
+                                         0,
+                                         {4},
+                                         {}});
     std::string told = "nothing";
     try {
       membrane.initialize();

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -189,6 +190,53 @@ TEST_F(TracersCoupled, LauncherRunsTwoMembraneProcessesAndStopsCleanlyOnCtrlC) {
     const auto a = f.read(inside);
     EXPECT_FALSE(a.empty()) << part << inside;
     EXPECT_EQ(a, merged.read(name)) << name;
+  }
+}
+
+/// Processes whose command line names `needle` (the test's own scene): the programs of a run.
+std::vector<int> processes_naming(const std::string& needle) {
+  std::vector<int> pids;
+  for (const auto& e : fs::directory_iterator("/proc")) {
+    const std::string name = e.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::string cmd = slurp((e.path() / "cmdline").string());
+    std::replace(cmd.begin(), cmd.end(), '\0', ' ');
+    if (cmd.find(needle) != std::string::npos) pids.push_back(std::stoi(name));
+  }
+  return pids;
+}
+
+// SLURM ends a job with SIGTERM: dld-run stops every program as Ctrl-C does and writes the run
+// file; killed outright (SIGKILL), it leaves no program running (the fluid ends the run).
+TEST_F(TracersCoupled, LauncherStoppedBySigtermOrKilledLeavesNoProgramRunning) {
+  for (const int sig : {SIGTERM, SIGKILL}) {
+    const std::string sc = (dir_ / ("sig" + std::to_string(sig) + ".toml")).string();
+    fs::copy_file(scene(0.8, 5.0), sc, fs::copy_options::overwrite_existing);
+    {
+      std::ifstream in(sc);
+      std::stringstream t;
+      t << in.rdbuf();
+      std::string text = t.str();
+      text.replace(
+          text.find("[output]\n"), 9,
+          "[output]\nfile = \"" + (dir_ / ("run" + std::to_string(sig) + ".h5")).string() + "\"\n");
+      std::ofstream(sc) << text;
+    }
+    Process run = spawn({DLD_RUN_EXE, sc, "--tracers", "2", "--steps", "100000000"},
+                        (dir_ / "run.log").string());
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    ASSERT_EQ(processes_naming(sc).size(), 3u) << "dld-run, dld-fluid, dld-tracers";
+    kill(run.pid, sig);
+    const int rc = wait_for(run, 20);
+    if (sig == SIGTERM) {
+      EXPECT_EQ(rc, 130) << slurp(run.log);
+      EXPECT_TRUE(fs::exists(dir_ / ("run" + std::to_string(sig) + ".h5"))) << slurp(run.log);
+    }
+    std::vector<int> left;
+    for (int t = 0; t < 100 && !(left = processes_naming(sc)).empty(); ++t)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    EXPECT_TRUE(left.empty()) << left.size() << " programs still running after signal " << sig;
+    for (const int p : left) kill(p, SIGKILL);
   }
 }
 
