@@ -111,9 +111,24 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   at += hash_bytes;
   r.side_name.assign(reinterpret_cast<const char*>(at), name_bytes);
   at += name_bytes;
+  // The name goes into every message about this side: printable ASCII only, or a newline or NUL
+  // in it would cut or forge those lines.
+  for (std::size_t i = 0; i < r.side_name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(r.side_name[i]);
+    if (c < 0x20 || c > 0x7e) {
+      throw_malformed(link, header.step, "side_name",
+                      fmt::format("byte {} is 0x{:02x}: expected printable ASCII", i, c));
+    }
+  }
   r.cell_nodes.resize(cells);
   std::memcpy(r.cell_nodes.data(), at, 4ull * cells);
   at += 4ull * cells;
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (r.cell_nodes[c] > kMaxCellNodes) {
+      throw_malformed(link, header.step, fmt::format("cell_nodes[{}]", c),
+                      fmt::format("{} nodes; at most {} per cell", r.cell_nodes[c], kMaxCellNodes));
+    }
+  }
   r.shared_memory.assign(reinterpret_cast<const char*>(at), shm_bytes);
   at += shm_bytes;
   r.cell_faces.resize(cells);

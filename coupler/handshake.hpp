@@ -51,6 +51,8 @@ struct Handshake {
 
 inline constexpr std::size_t kHandshakeFixedBytes = 100;
 inline constexpr std::size_t kMaxNameBytes = 256;
+/// Nodes of one cell at most: a 2000-face cell has 1002; this leaves room for any mesh.
+inline constexpr std::uint32_t kMaxCellNodes = 1'000'000;
 
 zmq::message_t encode_handshake(FrameType type, const Handshake& record);
 /// Decodes the payload of a hello or welcome; a short or inconsistent record is a malformed frame.

@@ -10,6 +10,7 @@
 
 #include "fluid/coupled_main.hpp"
 #include "fluid/fluid_run.hpp"
+#include "shared/cli_checks.hpp"
 #include "shared/guarded_main.hpp"
 #include "shared/input_error.hpp"
 #include "shared/log.hpp"
@@ -25,7 +26,7 @@ static int run_main(int argc, char** argv) {
   dld::fluid::CoupledOptions coupled;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
   app.add_option("--steps", steps, "step limit (overrides run.max_steps)")
-      ->check(CLI::PositiveNumber);
+      ->check(dld::step_count());
   app.add_option("--threads", threads, "OpenMP threads (overrides run.threads)")
       ->check(CLI::Range(1, 1024));
   app.add_option("-o,--output", output, "run file (overrides output.file)");

@@ -16,6 +16,7 @@
 #include "membrane/membrane_scene.hpp"
 #include "membrane/mesh_quality.hpp"
 #include "membrane/packing.hpp"
+#include "shared/cli_checks.hpp"
 #include "shared/guarded_main.hpp"
 #include "shared/h5file.hpp"
 #include "shared/log.hpp"
@@ -139,8 +140,7 @@ static int run_main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--peers", coupled.peers, "membrane processes in the run")
       ->check(CLI::Range(1, 64));
-  app.add_option("--steps", coupled.steps, "coupled mode: steps to run")
-      ->check(CLI::PositiveNumber);
+  app.add_option("--steps", coupled.steps, "coupled mode: steps to run")->check(dld::step_count());
   app.add_option("--sample-every", coupled.sample_every, "coupled mode: steps between samples")
       ->check(CLI::PositiveNumber);
   app.add_option("--pillars", coupled.pillars,

@@ -18,6 +18,7 @@
 #include "coupler/error.hpp"
 #include "coupler/membrane_side.hpp"
 #include "coupler/scene_identity.hpp"
+#include "shared/cli_checks.hpp"
 #include "shared/dld_geometry.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
@@ -44,7 +45,7 @@ int main(int argc, char** argv) {
   app.add_option("--count", count, "tracers")->check(CLI::Range(1, 1000000));
   app.add_option("--peer", peer, "this program's peer index")->check(CLI::NonNegativeNumber);
   app.add_option("--peers", peers, "membrane programs in the run")->check(CLI::Range(1, 64));
-  app.add_option("--steps", steps, "steps to run, then end the run")->check(CLI::PositiveNumber);
+  app.add_option("--steps", steps, "steps to run, then end the run")->check(dld::step_count());
   app.add_option("--sample-every", sample_every, "steps between trajectory samples")
       ->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "random seed of the start positions");

@@ -21,6 +21,7 @@
 
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/run_file_merge.hpp"
+#include "shared/cli_checks.hpp"
 #include "shared/guarded_main.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
@@ -113,7 +114,7 @@ static int run_main(int argc, char** argv) {
       ->check(CLI::IsMember({"cells", "tracers"}));
   app.add_option("--tracers", tracers, "tracer particles per membrane process")
       ->check(CLI::Range(1, 1000000));
-  app.add_option("--steps", steps, "steps to run")->check(CLI::PositiveNumber);
+  app.add_option("--steps", steps, "steps to run")->check(dld::step_count());
   app.add_option("--pillars", pillars,
                  "cells: end the run once every cell has passed this many pillars")
       ->check(CLI::NonNegativeNumber);
@@ -137,6 +138,12 @@ static int run_main(int argc, char** argv) {
     setenv("OMP_WAIT_POLICY", "PASSIVE", /*overwrite=*/0);
     const int peers = scene.coupling.membrane_processes;
     const fs::path out = fs::path(scene.output.file);
+    if (fs::is_directory(out)) {  // the run file replaces what is there: never a directory
+      throw dld::InputError(
+          fmt::format("{}: [output] file '{}' is a directory; expected the path "
+                      "of the run file (HDF5)",
+                      scene.file, out.string()));
+    }
     const fs::path run_dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
     fs::create_directories(run_dir);
     // ipc paths are limited to ~100 bytes: keep the socket in a short private directory.

@@ -125,6 +125,33 @@ TEST(MalformedHandshake, ShortHelloIsRefused) {
   }
 }
 
+// Hellos whose fields would make the fluid allocate without bound or print control characters.
+TEST(MalformedHandshake, HugeCellsAndUnprintableNamesAreRefusedNamingTheField) {
+  const std::vector<std::pair<Handshake, std::string>> cases{
+      {hello_for(test_scene(1), {2147483648u}),
+       "field 'cell_nodes[0]': 2147483648 nodes; at most 1000000 per cell"},
+      {hello_for(test_scene(1), {2}, "bad\nname"),
+       "field 'side_name': byte 3 is 0x0a: expected printable ASCII"},
+      {hello_for(test_scene(1), {2}, std::string("nul\0x", 5)),
+       "field 'side_name': byte 3 is 0x00: expected printable ASCII"},
+      {hello_for(test_scene(1), {2}, "caf\xc3\xa9"),
+       "field 'side_name': byte 3 is 0xc3: expected printable ASCII"}};
+  for (const auto& [hello, expected] : cases) {
+    zmq::context_t context;
+    TempDir dir;
+    FluidSide fluid({test_scene(1), fluid_endpoints(Kind::inproc, 1, dir), {}, test_options()},
+                    context);
+    RawPeer raw(context, fluid.endpoints()[0], false);
+    raw.send(encode_handshake(FrameType::hello, hello));
+    try {
+      fluid.initialize();
+      ADD_FAILURE() << "accepted: " << expected;
+    } catch (const CouplerError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
 // On a shared-memory link the data frames are the small ones; a full step frame is refused.
 TEST(MalformedSharedLink, FullStepFrameIsRefused) {
   TempDir dir;

@@ -172,6 +172,22 @@ class DldRunMerge : public ::testing::Test {
   std::string scene_;
 };
 
+// An [output] file that is a directory (empty or not) is refused before anything runs, and left
+// as it was (it used to be removed, or to give an error line and exit code 0).
+TEST_F(DldRunMerge, AnOutputPathThatIsADirectoryIsRefused) {
+  for (const bool empty : {true, false}) {
+    fs::create_directories(stem() + ".h5");
+    if (!empty) std::ofstream(stem() + ".h5/keep") << "x";
+    const auto [code, out] = run();
+    EXPECT_EQ(code, 2) << out;
+    EXPECT_NE(out.find("[output] file '" + stem() + ".h5' is a directory"), std::string::npos)
+        << out;
+    EXPECT_TRUE(fs::is_directory(stem() + ".h5"));
+    EXPECT_EQ(fs::exists(stem() + ".h5/keep"), !empty);
+    fs::remove_all(stem() + ".h5");
+  }
+}
+
 TEST_F(DldRunMerge, WritesTheRunFileAndNamesItInTheLastLine) {
   write_parts(stem());
   const auto [code, out] = run();

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// Command-line checks shared by the programs (CLI11): a step count is a whole number in a stated
+// range, named in the error, never a 300-digit range nor a silently clamped 2^63 - 1.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cstdint>
+#include <string>
+
+namespace dld {
+
+/// Largest step count a program accepts: 10^15 steps is decades of any machine.
+inline constexpr std::int64_t kMaxSteps = 1'000'000'000'000'000;
+
+/// CLI11 check for a step count: digits only, 1 to kMaxSteps ("0" too with allow_zero).
+inline CLI::Validator step_count(bool allow_zero = false) {
+  return CLI::Validator(
+      [allow_zero](std::string& s) -> std::string {
+        std::int64_t v = 0;
+        const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+        const std::int64_t low = allow_zero ? 0 : 1;
+        if (ec != std::errc() || end != s.data() + s.size() || v < low || v > kMaxSteps) {
+          return "expected a whole number of steps from " + std::to_string(low) + " to " +
+                 std::to_string(kMaxSteps) + ", got '" + s + "'";
+        }
+        return {};
+      },
+      allow_zero ? "STEPS (0..1e15)" : "STEPS (1..1e15)");
+}
+
+}  // namespace dld
