@@ -149,6 +149,14 @@ static int run_main(int argc, char** argv) {
     // ipc paths are limited to ~100 bytes: keep the socket in a short private directory.
     const fs::path sock_dir = fs::temp_directory_path() / fmt::format("dld-run-{}", getpid());
     fs::create_directories(sock_dir);
+    // Gone however this function is left (--dry-run, an error, the end of the run).
+    const struct RemoveOnExit {
+      fs::path path;
+      ~RemoveOnExit() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+      }
+    } sock_dir_guard{sock_dir};
     // coupling.transport: ipc (default) or tcp over loopback, one port per membrane process from a
     // per-launcher base (tcp across machines: start dld-fluid --serve and dld-membrane --connect by
     // hand, docs/protocol.md).
@@ -305,7 +313,6 @@ static int run_main(int argc, char** argv) {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
-    fs::remove_all(sock_dir);
     // After a failure too: what the programs wrote up to it is what there is to look at.
     const bool have_run_file =
         write_run_file(dld::coupler::run_parts(stem, membrane, peers), merged);

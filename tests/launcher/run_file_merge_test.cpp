@@ -172,6 +172,21 @@ class DldRunMerge : public ::testing::Test {
   std::string scene_;
 };
 
+// dld-run's temporary folder (its sockets) is gone after a dry run, a failed run and a good one.
+TEST_F(DldRunMerge, LeavesNoTemporaryFolderBehind) {
+  for (const std::string how : {"dry", "failed", "done"}) {
+    exit_code("dld-fluid", how == "failed" ? 1 : 0);
+    if (how == "done") write_parts(stem());
+    std::vector<std::string> args{(bin() / "dld-run").string(), scene_, "--membrane", "cells"};
+    if (how == "dry") args.push_back("--dry-run");
+    const std::string log = (dir_.path() / "dld-run.log").string();
+    const auto p = test::spawn(args, log);
+    EXPECT_EQ(test::wait_for(p, 30) == 0, how != "failed") << how << ": " << slurp(log);
+    EXPECT_FALSE(fs::exists(fs::temp_directory_path() / ("dld-run-" + std::to_string(p.pid))))
+        << how;
+  }
+}
+
 // An [output] file that is a directory (empty or not) is refused before anything runs, and left
 // as it was (it used to be removed, or to give an error line and exit code 0).
 TEST_F(DldRunMerge, AnOutputPathThatIsADirectoryIsRefused) {
