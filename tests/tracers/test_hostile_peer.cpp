@@ -3,7 +3,6 @@
 // (refused as a malformed frame) and forces the lattice cannot take (the run stops at that step,
 // naming the peer). Either way dld-fluid exits non-zero and writes no checkpoint of the state.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -17,6 +16,7 @@
 #include "coupler/scene_identity.hpp"
 #include "shared/scene.hpp"
 #include "tests/child_process.hpp"
+#include "tests/temp_dir.hpp"
 
 namespace {
 
@@ -28,17 +28,12 @@ using dld::test::wait_for;
 class HostilePeer : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("dld-hostile-" + std::to_string(getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
     scene_ = (dir_ / "scene.toml").string();
     std::ofstream(scene_) << "[scene]\nname = \"hostile\"\n[geometry]\npillar_radius_um = 10.0\n"
                              "pillar_spacing_um = 32.0\ndepth_um = 4.8\nrow_shift_um = 4.4\n"
                              "[lattice]\ndx_um = 0.8\n[drive]\nreynolds = 0.1\n[run]\nthreads = "
                              "1\n[output]\nfields = false\n[coupling]\ntimeout_s = 20\n";
   }
-  void TearDown() override { fs::remove_all(dir_); }
 
   /// Runs dld-fluid against an in-test membrane of 4 nodes that sends `force` on every node for
   /// up to 3 steps; returns what the membrane side was told (its CouplerError) and leaves the
@@ -77,7 +72,8 @@ class HostilePeer : public ::testing::Test {
   }
   std::string checkpoint() const { return (dir_ / "fluid.ckpt.h5").string(); }
 
-  fs::path dir_;
+  dld::test::TempDir tmp_{"dld-hostile"};
+  const fs::path& dir_ = tmp_.path();
   std::string scene_, fluid_log_;
   int fluid_rc_ = -1;
 };
