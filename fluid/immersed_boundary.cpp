@@ -256,21 +256,18 @@ namespace {
                            ") has no fluid node within its kernel (inside a pillar or a wall?)");
 }
 
-/// First x column of a marker's support after folding x into the box (may be < 0 or > nx - W:
-/// the support then crosses the shifted x face); INT_MIN for a non-finite position.
-int first_column(const double* p, int nx, int width) {
-  if (!std::isfinite(p[0])) return std::numeric_limits<int>::min();
-  const double X = p[0] - std::floor(p[0] / nx) * nx;
-  return static_cast<int>(std::floor(X - 0.5 - 0.5 * width)) + 1;
-}
-
-/// The (x, y) column of a marker's support corner in the box, j * nx + i, for sorting markers so
-/// that neighbours in memory are neighbours in the lattice; nx * ny for a non-finite position.
-std::size_t column_bin(const double* p, const Domain& d, int width) {
-  if (!std::isfinite(p[0]) || !std::isfinite(p[1])) return static_cast<std::size_t>(d.nx) * d.ny;
+/// Where a marker's support starts after folding x into the box: its first x column (may be < 0
+/// or > nx - W: the support then crosses the shifted x face; INT_MIN if not finite), and as the
+/// return value its (x, y) column bin j * nx + i, for sorting markers so that neighbours in
+/// memory are neighbours in the lattice (nx * ny if not finite).
+std::size_t locate(const double* p, const Domain& d, int width, int& first) {
+  first = std::numeric_limits<int>::min();
+  if (!std::isfinite(p[0])) return static_cast<std::size_t>(d.nx) * d.ny;
   const double wraps = std::floor(p[0] / d.nx);
   const double X = p[0] - wraps * d.nx, Y = p[1] - wraps * d.shift;
-  const int i = std::clamp(static_cast<int>(std::floor(X - 0.5 - 0.5 * width)) + 1, 0, d.nx - 1);
+  first = static_cast<int>(std::floor(X - 0.5 - 0.5 * width)) + 1;
+  if (!std::isfinite(p[1])) return static_cast<std::size_t>(d.nx) * d.ny;
+  const int i = std::clamp(first, 0, d.nx - 1);
   const double y = Y - std::floor(Y / d.ny) * d.ny;
   const int j = std::clamp(static_cast<int>(y), 0, d.ny - 1);
   return static_cast<std::size_t>(j) * d.nx + i;
@@ -285,8 +282,8 @@ void ImmersedBoundary::locate_markers(std::span<const double> positions, int wid
 #pragma omp parallel for schedule(static)
   for (std::int64_t m = 0; m < markers; ++m) {
     const double* p = &positions[3 * static_cast<std::size_t>(m)];
-    first_[static_cast<std::size_t>(m)] = first_column(p, d.nx, width);
-    bin_[static_cast<std::size_t>(m)] = static_cast<std::uint32_t>(column_bin(p, d, width));
+    const auto k = static_cast<std::size_t>(m);
+    bin_[k] = static_cast<std::uint32_t>(locate(p, d, width, first_[k]));
   }
 }
 
