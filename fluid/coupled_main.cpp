@@ -145,7 +145,8 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       const auto f = side.forces();
       ib.spread(x, f, solver.force_field());
       lap(t0, t_spread);
-      if (contrast) {
+      // Time-scale separation ([coupling] viscosity_field_every): the field is held in between.
+      if (contrast && (steps == 0 || solver.steps() % scene.coupling.viscosity_field_every == 0)) {
         contrast->update(x, solver.relaxation_field());
         if (steps == 0) {
           spdlog::info("viscosity contrast: {} nodes inside the cells at step {}",

@@ -213,9 +213,11 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     // waiting for the fluid's step.
     double t_membrane = 0, t_exchange = 0;
     const std::int64_t s0 = s;
+    const std::int64_t force_every = scene.coupling.force_every;
     for (; s < a.steps && !g_stop; ++s) {
       const auto t0 = Clock::now();
-      cells.compute_forces(force);
+      // Time-scale separation ([coupling] force_every): between updates the last forces are held.
+      if (s % force_every == 0 || s == s0) cells.compute_forces(force);
       const std::span<const double> f(force.data(), static_cast<std::size_t>(force.size()));
       const auto t1 = Clock::now();
       if (!side.advance(cells.flat_positions(), f, u)) {

@@ -136,6 +136,15 @@ Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::st
     s.coupling.membrane_processes = static_cast<int>(k);
     s.coupling.transport = c->choice("transport", {"ipc", "tcp"}, "ipc");
     s.coupling.timeout_s = c->in_range("timeout_s", 0.1, 86400.0, 30.0);
+    auto every = [&](const char* key, const char* what) {
+      const std::int64_t n = c->integer(key, 1);
+      if (n < 1 || n > 1000)
+        c->fail(key, fmt::format("expected 1 to 1000 steps between {} (1: every step)", what));
+      return static_cast<int>(n);
+    };
+    s.coupling.force_every = every("force_every", "membrane force updates");
+    s.coupling.viscosity_field_every =
+        every("viscosity_field_every", "rebuilds of the viscosity field");
   }
 
   // Lattice velocity check: keep Mach number small so compressibility errors stay negligible.
@@ -210,6 +219,9 @@ std::string Scene::describe() const {
       nx(), ny(), nz(), c.radius, c.gap(), c.shift,
       lattice.curved_walls ? "Bouzidi interpolated bounce-back" : "half-way bounce-back");
   out += fmt::format("  lattice body force: f_x {:.6g} (lattice units)", force_x_lu());
+  out += fmt::format(
+      "\n  coupling: {} kernel, membrane forces every {} step(s), viscosity field every {} step(s)",
+      coupling.ib_kernel, coupling.force_every, coupling.viscosity_field_every);
   return out;
 }
 

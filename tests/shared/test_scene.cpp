@@ -153,6 +153,28 @@ TEST(Scene, BadMeshEveryIsNamed) {
                "expected an integer");
 }
 
+TEST(Scene, TimeScaleSeparationIsOffUnlessAsked) {
+  const dld::Scene exact = dld::parse_scene(kGood, "good.toml");
+  EXPECT_EQ(exact.coupling.force_every, 1);
+  EXPECT_EQ(exact.coupling.viscosity_field_every, 1);
+  const dld::Scene held = dld::parse_scene(
+      std::string(kGood) + "[coupling]\nforce_every = 5\nviscosity_field_every = 2\n", "good.toml");
+  EXPECT_EQ(held.coupling.force_every, 5);
+  EXPECT_EQ(held.coupling.viscosity_field_every, 2);
+  EXPECT_NE(held.describe().find("membrane forces every 5 step(s), viscosity field every 2"),
+            std::string::npos)
+      << held.describe();
+}
+
+TEST(Scene, BadUpdateIntervalsAreNamed) {
+  expect_error(std::string(kGood) + "[coupling]\nforce_every = 0\n", "coupling.force_every", 14,
+               "expected 1 to 1000 steps between membrane force updates");
+  expect_error(std::string(kGood) + "[coupling]\nviscosity_field_every = 5000\n",
+               "coupling.viscosity_field_every", 14, "expected 1 to 1000 steps");
+  expect_error(std::string(kGood) + "[coupling]\nforce_every = 1.5\n", "coupling.force_every", 14,
+               "expected an integer");
+}
+
 TEST(Scene, TablesOfOtherProgramsAreLeftToThem) {
   // [membrane] is read by the membrane program; the fluid reader must not reject it.
   EXPECT_NO_THROW(
