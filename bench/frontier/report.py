@@ -1,0 +1,138 @@
+# SPDX-License-Identifier: MIT
+"""The frontier's report: per problem a table (setting, metric, error against the reference point,
+cost) and a log-log plot of error against wall seconds per pillar with the Pareto front drawn;
+then the settings that meet the study's tolerances and the cheapest of them (`fast`).
+
+Errors: dilute |s - s_ref| / d (the shift per column as a fraction of the row shift, the scale of
+the two modes: ~d displacement, ~0 zigzag) and whether the mode is the reference's; dense
+|M - M_ref| / M_ref of the mobility."""
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.ticker import NullFormatter  # noqa: E402
+
+TOLERANCE = {"dilute": 0.03, "dense": 0.05}  # issue 17: `fast` is within these of the reference
+FLOOR = 1e-4  # where a zero error is drawn on the log axis
+
+
+def error(problem, res, ref):
+    if res.get("status") != "ok" or ref.get("status") != "ok":
+        return math.nan
+    if problem.kind == "dilute":
+        return abs(res["shift_per_column_um"] - ref["shift_per_column_um"]) / res["row_shift_um"]
+    return abs(res["mobility"] - ref["mobility"]) / ref["mobility"]
+
+
+def _fmt(v, spec):
+    return "-" if v is None or (isinstance(v, float) and math.isnan(v)) else format(v, spec)
+
+
+def _knobs(point):
+    return ", ".join(f"{k} {v}" for k, v in point.changed.items()) or "(reference)"
+
+
+def pareto(rows):
+    """Names of the points no other point beats in both cost and error."""
+    ok = [(c, e, n) for n, c, e in rows if not (math.isnan(c) or math.isnan(e))]
+    return {n for c, e, n in ok
+            if not any(c2 <= c and e2 <= e and (c2 < c or e2 < e) for c2, e2, _ in ok)}
+
+
+def plot(problem, rows, path):
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    front = pareto(rows)
+    for name, cost, err in rows:
+        if math.isnan(cost) or math.isnan(err):
+            continue
+        e = max(err, FLOOR)
+        ax.loglog(cost, e, "o", color="C3" if name in front else "C0")
+        ax.annotate(name + (" (0)" if err == 0 else ""), (cost, e), textcoords="offset points",
+                    xytext=(4, 4), fontsize=8)
+    f = sorted((c, max(e, FLOOR)) for n, c, e in rows if n in front)
+    if f:
+        ax.plot([c for c, _ in f], [e for _, e in f], "-", color="C3", lw=1, label="Pareto front")
+    ax.axhline(TOLERANCE[problem.kind], ls=":", color="grey",
+               label=f"tolerance {TOLERANCE[problem.kind]:.0%}")
+    ax.set_xlabel("wall time per pillar [s] (one core)")
+    ax.set_ylabel("|s - s_ref| / d" if problem.kind == "dilute" else "|M - M_ref| / M_ref")
+    ax.set_title(f"{problem.name}: error against cost (zero drawn at {FLOOR:g})", fontsize=10)
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _problem_table(problem, grid, results):
+    ref = results[(problem.name, "reference")]
+    lines = [f"### {problem.name} ({problem.kind}: d {problem.values['row_shift_um']} um, "
+             f"Ca {problem.values['capillary_number']}"
+             + (f", columns {problem.values['columns'][0]}-{problem.values['columns'][1]})"
+                if problem.kind == "dilute" else
+                f", {problem.values['cells']} cells, t p' = {problem.values['t_pprime_Pa_s_per_m']}"
+                " Pa s/m)"), ""]
+    metric = "shift/col [um]" if problem.kind == "dilute" else "mobility"
+    lines.append(f"| setting | knobs | status | {metric} | error | mode | largest dV [%] | "
+                 "steps/pillar | steps/s | wall s/pillar |")
+    lines.append("|---|---|---|---:|---:|---|---:|---:|---:|---:|")
+    rows = []
+    for p in grid.points:
+        r = results[(problem.name, p.name)]
+        err = error(problem, r, ref)
+        value = r.get("shift_per_column_um" if problem.kind == "dilute" else "mobility")
+        status = r.get("status", "?") + (f": {r['why']}" if "why" in r else "")
+        lines.append(
+            f"| {p.name} | {_knobs(p)} | {status} | {_fmt(value, '.4f')} | {_fmt(err, '.3g')} | "
+            f"{r.get('mode', '-')} | {_fmt(r.get('volume_change_pct'), '.3f')} | "
+            f"{_fmt(r.get('steps_per_pillar'), '.0f')} | {_fmt(r.get('steps_per_s'), '.1f')} | "
+            f"{_fmt(r.get('wall_s_per_pillar'), '.1f')} |")
+        rows.append((p.name, r.get("wall_s_per_pillar", math.nan), err))
+    return lines, rows
+
+
+def choose(grid, results):
+    """(name, cost) of the cheapest point within every tolerance, modes as the reference's; the
+    cost is the dense problem's wall time per pillar if there is one (the study's runs are dense),
+    else the sum over the problems."""
+    best = None
+    dense = [p for p in grid.problems if p.kind == "dense"]
+    for p in grid.points:
+        ok, cost = True, 0.0
+        for prob in grid.problems:
+            r, ref = results[(prob.name, p.name)], results[(prob.name, "reference")]
+            e = error(prob, r, ref)
+            ok &= not math.isnan(e) and e <= TOLERANCE[prob.kind]
+            if prob.kind == "dilute":
+                ok &= r.get("mode") == ref.get("mode")
+            if not dense or prob in dense:
+                cost += r.get("wall_s_per_pillar", math.nan)
+        if ok and not math.isnan(cost) and (best is None or cost < best[1]):
+            best = (p.name, cost)
+    return best
+
+
+def write(grid, results, doc_path, fig_dir, header):
+    os.makedirs(fig_dir, exist_ok=True)
+    lines = [f"# Speed against error: {grid.title}", "", *header, ""]
+    for prob in grid.problems:
+        table, rows = _problem_table(prob, grid, results)
+        png = os.path.join(fig_dir, f"frontier-{prob.name}.png")
+        plot(prob, rows, png)
+        lines += table + ["", f"![{prob.name}]({os.path.relpath(png, os.path.dirname(doc_path))})",
+                          "", "Pareto front: " + ", ".join(sorted(pareto(rows))), ""]
+    best = choose(grid, results)
+    lines += ["## The cheapest setting within tolerance", "",
+              f"Tolerances: dilute shift within {TOLERANCE['dilute']:.0%} of d and the same mode; "
+              f"dense mobility within {TOLERANCE['dense']:.0%} of the reference.", ""]
+    if best:
+        p = next(p for p in grid.points if p.name == best[0])
+        lines.append(f"**{best[0]}** ({_knobs(p)}): {best[1]:.1f} wall s per pillar.")
+    else:
+        lines.append("No point meets every tolerance yet (or a point is pending).")
+    with open(doc_path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    return best

@@ -1,0 +1,111 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""bench/frontier/frontier (issue 17): the quick grid runs and reports (the reference's errors
+against itself are zero, a held-update point has a finite error, a point beyond the stability
+limit is a row "unstable at step N", the plots are PNGs); bad grids stop with one line naming the
+key. Usage: frontier_test.py SOURCE_DIR"""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import unittest
+
+SOURCE = sys.argv.pop(1) if len(sys.argv) > 1 else "."
+FRONTIER = os.path.join(SOURCE, "bench/frontier/frontier")
+
+
+def frontier(*args):
+    return subprocess.run([FRONTIER, *args], capture_output=True, text=True, timeout=900)
+
+
+def rows(report, problem):
+    """setting -> cells of the problem's table."""
+    text = report.split(f"### {problem} ")[1].split("###")[0]
+    return {c[0]: c for c in ([x.strip() for x in line.strip("|").split("|")]
+                              for line in text.splitlines() if line.startswith("| ")
+                              and not line.startswith("| setting"))}
+
+
+class QuickGrid(unittest.TestCase):
+    def test_runs_and_reports(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = frontier("--quick", "--out", d, "--jobs", "2")
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with open(os.path.join(d, "quick", "frontier.md")) as f:
+                report = f.read()
+            for problem in ("dilute-d6.0-ca0.2", "dense3"):
+                t = rows(report, problem)
+                self.assertEqual(t["reference"][2], "ok", t)
+                self.assertEqual(float(t["reference"][4]), 0.0)  # the finest point against itself
+                self.assertEqual(t["held2"][2], "ok", t)
+                err = float(t["held2"][4])
+                self.assertTrue(0 <= err < 0.05, err)
+                self.assertGreater(float(t["held2"][9]), 0)  # wall seconds per pillar
+                self.assertRegex(t["re1"][2], r"^unstable at step \d+")
+                png = os.path.join(d, "quick", "frontier", f"frontier-{problem}.png")
+                with open(png, "rb") as f:
+                    self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+            self.assertIn("## The cheapest setting within tolerance", report)
+            # A second call reads the finished points back instead of running them again.
+            again = frontier("--quick", "--out", d, "--jobs", "2")
+            self.assertEqual(again.returncode, 0, again.stderr)
+            with open(os.path.join(d, "quick", "frontier.md")) as f:
+                self.assertEqual(rows(f.read(), "dense3")["held2"], rows(report, "dense3")["held2"])
+
+
+GOOD = """
+[reference]
+dx_um = 0.8
+mesh_faces = 500
+reynolds = 0.25
+ib_kernel = "peskin4"
+force_every = 1
+viscosity_field_every = 1
+[[problem]]
+name = "dilute"
+kind = "dilute"
+row_shift_um = 6.0
+capillary_number = 0.2
+columns = [1, 2]
+"""
+
+
+class BadGrid(unittest.TestCase):
+    def expect_refused(self, text, *words):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "grid.toml")
+            with open(path, "w") as f:
+                f.write(text)
+            r = frontier("--grid", path, "--out", d, "--report-only", "--report",
+                         os.path.join(d, "f.md"))
+            self.assertNotEqual(r.returncode, 0)
+            line = r.stderr.strip()
+            self.assertEqual(len(line.splitlines()), 1, line)
+            self.assertTrue(line.startswith(f"frontier: error: {path}"), line)
+            for w in words:
+                self.assertIn(w, line)
+
+    def test_unknown_knob(self):
+        self.expect_refused(GOOD + '[[point]]\nname = "x"\ntimestep = 2\n', "unknown knob 'timestep'")
+
+    def test_value_outside_a_knobs_range(self):
+        self.expect_refused(GOOD + '[[point]]\nname = "x"\nforce_every = 0\n', "'force_every' = 0",
+                            "steps 1..1000")
+        self.expect_refused(GOOD + '[[point]]\nname = "x"\nib_kernel = "gauss"\n', "ib_kernel")
+
+    def test_reference_must_name_every_knob(self):
+        self.expect_refused(GOOD.replace("force_every = 1\n", ""), "[reference]", "force_every")
+
+    def test_bad_problem(self):
+        self.expect_refused(GOOD.replace("columns = [1, 2]", "columns = [3, 2]"), "'columns'")
+        self.expect_refused(GOOD.replace('kind = "dilute"', 'kind = "dense"').replace("columns = [1, 2]", ""),
+                            "missing 'cells'")
+        self.expect_refused(GOOD + "colour = 1\n", "unknown key 'colour'")
+
+    def test_not_toml(self):
+        self.expect_refused("[reference\n", "not TOML")
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
