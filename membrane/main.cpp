@@ -163,6 +163,9 @@ static int run_main(int argc, char** argv) {
                "pack the scene's [cells] count (or --counts) at random: Ht, gaps, time, file");
   app.add_option("--counts", pack_counts, "with --pack: cell counts, e.g. 3,6,12,15,17")
       ->delimiter(',');
+  bool check = false;
+  app.add_flag("--check", check,
+               "validate the scene's membrane part (and make its mesh), print it, and exit");
   app.add_flag("-v,--verbose", verbose, "debug logging");
   CLI11_PARSE(app, argc, argv);
   dld::setup_logging("dld-membrane", verbose);
@@ -172,6 +175,7 @@ static int run_main(int argc, char** argv) {
     scene.document->reject_unknown({"coupling"});
     spdlog::info("{}", m.describe(scene));
     spdlog::info("mesh: {}", describe(mesh_quality(m.reference_lu)));
+    if (check) return 0;
     if (pack) {
       run_pack(scene, m, pack_counts);
       return 0;

@@ -195,8 +195,11 @@ MembraneScene read_membrane_scene(const Scene& scene) {
     for (const TomlSection& c : cells->sections("cell")) {
       const auto p = c.numbers("centre_um");
       if (p.size() != 3) c.fail("centre_um", "expected [x, y, z] in um");
+      if (!std::isfinite(p[0] + p[1] + p[2])) c.fail("centre_um", "expected finite numbers (um)");
       out.centres_lu.emplace_back(p[0] / dx, p[1] / dx, p[2] / dx);
-      out.angles_rad.push_back(c.number("angle_deg", 0.0) * M_PI / 180.0);
+      const double angle = c.number("angle_deg", 0.0);
+      if (!std::isfinite(angle)) c.fail("angle_deg", "expected a finite angle in degrees");
+      out.angles_rad.push_back(angle * M_PI / 180.0);
       const DldCell box = scene.cell_um;
       if (p[2] < 0.0 || p[2] > box.depth) c.fail("centre_um", "z must lie between the walls");
       if (box.inside_pillar(p[0], p[1])) c.fail("centre_um", "the centre lies inside the pillar");

@@ -225,7 +225,8 @@ def run(grid, problem, point, out, exe):
             args = ["--steps", "1000000000000", "--pillars", str(problem.values["columns"][1])]
     except RuntimeError as e:
         _write_scene(scene, doc)
-        return _keep(result_file, {"status": "refused", "why": str(e)})
+        why = str(e).replace(scene + ".probe", scene)  # the probe is the scene, written early
+        return _keep(result_file, {"status": "refused", "why": why})
     changed = _write_scene(scene, doc)
     if not changed and os.path.exists(result_file):
         with open(result_file) as f:

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "coupler/launcher/process.hpp"
@@ -94,6 +95,27 @@ bool write_run_file(const std::vector<dld::coupler::RunPart>& parts, const std::
                e.what());
     return false;
   }
+}
+
+/// Whether dld-fluid has welcomed its membranes (its log says so once the handshake is done).
+bool handshake_done(const std::string& fluid_log) {
+  std::ifstream in(fluid_log);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find("coupled with ") != std::string::npos) return true;
+  return false;
+}
+
+/// --dry-run: dld-membrane --check reads the membrane part of the scene (and makes its mesh);
+/// its error line and exit code 2 if it refuses it.
+int check_membrane_part(const std::string& membrane_exe, const std::string& scene_path,
+                        const fs::path& dir) {
+  const std::string log = (dir / "membrane-check.log").string();
+  dld::coupler::Child c =
+      dld::coupler::start_child("dld-membrane", {membrane_exe, scene_path, "--check"}, log);
+  if (dld::coupler::wait_child(c) == 0) return 0;
+  fmt::print(stderr, "error: {}\n", dld::coupler::error_line(log));
+  return 2;
 }
 
 }  // namespace
@@ -245,8 +267,8 @@ static int run_main(int argc, char** argv) {
     for (const auto& c : commands) {
       fmt::print("  {}\n", fmt::join(c, " "));
     }
-    if (dry) {
-      return 0;
+    if (dry) {  // the membrane part too: dld-run itself reads only the fluid's tables
+      return with_cells ? check_membrane_part(commands[1][0], scene_path, sock_dir) : 0;
     }
 
     // The run file describes this run or does not exist: one left by an earlier run of the scene
@@ -275,8 +297,12 @@ static int run_main(int argc, char** argv) {
       for (auto& c : children) {
         if (dld::coupler::poll_child(c) && c.exit_code != 0) {
           fmt::print(stderr, "dld-run: {} stopped with exit code {}: {}\n", c.name, c.exit_code,
-                     dld::coupler::last_line(c.log));
+                     dld::coupler::error_line(c.log));
           failed = failed ? failed : c.exit_code;
+          // A membrane program that fails before the fluid has its hellos would leave the fluid
+          // waiting its whole handshake timeout; there is nothing of the run to keep yet.
+          if (&c != &children[0] && children[0].running && !handshake_done(children[0].log))
+            dld::coupler::signal_child(children[0], SIGTERM);
         }
         any_running = any_running || c.running;
       }

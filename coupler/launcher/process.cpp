@@ -106,4 +106,15 @@ std::string last_line(const std::string& path) {
   return last;
 }
 
+std::string error_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, error;
+  while (std::getline(in, line)) {
+    if (line.find("] error: ") != std::string::npos ||
+        line.find(": error: ") != std::string::npos || line.rfind("error: ", 0) == 0)
+      error = line;
+  }
+  return error.empty() ? last_line(path) : error;
+}
+
 }  // namespace dld::coupler

@@ -32,5 +32,9 @@ int wait_child(Child& c);
 std::string find_program(const std::string& name, const std::string& build_path);
 /// The last non-empty line of a text file ("" if it cannot be read): a child's latest progress.
 std::string last_line(const std::string& path);
+/// The line that says why a program failed: its last error line ("[program] error: ..." as
+/// shared/log writes them, or "program: error: ..." from a program's top level), else its last
+/// line.
+std::string error_line(const std::string& path);
 
 }  // namespace dld::coupler

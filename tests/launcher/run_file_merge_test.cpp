@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 
@@ -143,7 +144,11 @@ class DldRunMerge : public ::testing::Test {
     fs::copy_file(DLD_RUN_EXE, bin() / "dld-run");
     for (const char* name : {"dld-fluid", "dld-membrane"}) {
       const fs::path script = bin() / name;
-      std::ofstream(script) << "#!/bin/sh\nexit $(cat " << (bin() / name).string() << ".code)\n";
+      // <name>.say: lines it prints first; <name>.sleep: seconds it then waits (a slow start).
+      const std::string at = (bin() / name).string();
+      std::ofstream(script) << "#!/bin/sh\n[ -f " << at << ".say ] && cat " << at << ".say\n[ -f "
+                            << at << ".sleep ] && sleep $(cat " << at << ".sleep)\nexit $(cat "
+                            << at << ".code)\n";
       fs::permissions(script, fs::perms::owner_all);
       exit_code(name, 0);
     }
@@ -167,6 +172,9 @@ class DldRunMerge : public ::testing::Test {
     const auto p = test::spawn({(bin() / "dld-run").string(), scene_, "--membrane", "cells"}, log);
     const int code = test::wait_for(p, 30);
     return {code, slurp(log)};
+  }
+  void say(const std::string& program, const std::string& lines) {
+    std::ofstream(bin() / (program + ".say")) << lines;
   }
   test::TempDir dir_{"dld-run-merge"};
   std::string scene_;
@@ -258,6 +266,51 @@ TEST_F(DldRunMerge, AMissingPartIsOneLineAndNoRunFile) {
   const auto [failed_code, failed_out] = run();
   EXPECT_EQ(failed_code, 4) << failed_out;
   EXPECT_NE(failed_out.find(line), std::string::npos) << failed_out;
+}
+
+// The line relayed for a failed program is its error line, not whatever it printed last (issue 18,
+// item 5: "stopped with exit code 3:   lattice body force: ...").
+TEST_F(DldRunMerge, AFailedProgramIsReportedByItsErrorLine) {
+  say("dld-fluid",
+      "[dld-fluid] scene resolved\n[dld-fluid] error: the lattice is not finite\n"
+      "  lattice body force: f_x 0.0001\n");
+  exit_code("dld-fluid", 3);
+  const auto [code, out] = run();
+  EXPECT_EQ(code, 3) << out;
+  EXPECT_NE(out.find("dld-fluid stopped with exit code 3: [dld-fluid] error: the lattice is not "
+                     "finite"),
+            std::string::npos)
+      << out;
+}
+
+// A membrane program that fails at start-up stops the run at once: the fluid, still waiting for
+// its hellos, is not left to its handshake timeout.
+TEST_F(DldRunMerge, AMembraneThatFailsAtStartUpStopsTheRunAtOnce) {
+  std::ofstream(bin() / "dld-fluid.sleep") << "60\n";
+  say("dld-membrane", "dld-membrane: error: scene.toml: bad mesh\n");
+  exit_code("dld-membrane", 1);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto [code, out] = run();
+  EXPECT_NE(code, 0) << out;
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10)) << out;
+  EXPECT_NE(out.find("dld-membrane: error: scene.toml: bad mesh"), std::string::npos) << out;
+}
+
+// --dry-run checks the membrane part too (dld-membrane --check): its refusal is dld-run's, exit 2.
+TEST_F(DldRunMerge, DryRunRefusesAnInvalidMembranePart) {
+  say("dld-membrane", "dld-membrane: error: scene.toml:12: 'membrane.mesh_faces': too few\n");
+  exit_code("dld-membrane", 1);
+  const std::string log = (dir_.path() / "dry.log").string();
+  const auto p =
+      test::spawn({(bin() / "dld-run").string(), scene_, "--membrane", "cells", "--dry-run"}, log);
+  EXPECT_EQ(test::wait_for(p, 30), 2) << slurp(log);
+  EXPECT_NE(slurp(log).find("error: dld-membrane: error: scene.toml:12: 'membrane.mesh_faces'"),
+            std::string::npos)
+      << slurp(log);
+  exit_code("dld-membrane", 0);
+  const auto ok =
+      test::spawn({(bin() / "dld-run").string(), scene_, "--membrane", "cells", "--dry-run"}, log);
+  EXPECT_EQ(test::wait_for(ok, 30), 0) << slurp(log);
 }
 
 }  // namespace

@@ -166,6 +166,13 @@ TEST(SceneKeys, ErrorsNameFileLineAndKey) {
   EXPECT_NE(e.find("[membrane.bending]"), std::string::npos) << e;
   e = scene_error(kGood + "[[cells.cell]]\ncentre_um = [16.0, 16.0, 2.4]\n");
   EXPECT_NE(e.find("inside the pillar"), std::string::npos) << e;
+  // NaN compares false with every limit: it must be refused by name, not slip through them.
+  e = scene_error(kGood + "[[cells.cell]]\ncentre_um = [3.0, nan, 2.4]\n");
+  EXPECT_NE(e.find("cells.cell"), std::string::npos) << e;
+  EXPECT_NE(e.find("centre_um"), std::string::npos) << e;
+  EXPECT_NE(e.find("expected finite numbers"), std::string::npos) << e;
+  e = scene_error(kGood + "[[cells.cell]]\ncentre_um = [3.0, 0.0, 2.4]\nangle_deg = inf\n");
+  EXPECT_NE(e.find("angle_deg"), std::string::npos) << e;
 }
 
 // kappa_V of the scene's volume penalty (lattice units).
