@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace dld {
@@ -23,6 +24,9 @@ std::string type_name(const toml::node& n) {
 }  // namespace
 
 std::shared_ptr<TomlDocument> TomlDocument::load(const std::string& path) {
+  // toml++ reads a directory as an empty document ("missing table [scene]"): say what it is.
+  if (std::filesystem::is_directory(path))
+    throw InputError(fmt::format("{}: is a directory; expected a scene file (TOML)", path));
   try {
     auto doc = std::make_shared<TomlDocument>();
     doc->file_ = path;

@@ -77,9 +77,14 @@ std::vector<std::string> common_checkpoint(
       return chosen;
     }
   }
+  // Each file and why it cannot be used: a corrupt file is not a missing one.
   std::string found;
   for (const auto& [path, group] : sides) {
-    found += fmt::format(" {} (step {})", path, checkpoint_step(path, group));
+    const std::int64_t step = checkpoint_step(path, group);
+    found += fmt::format(" {} ({})", path,
+                         step >= 0           ? fmt::format("step {}", step)
+                         : !fs::exists(path) ? std::string("no such file")
+                                             : std::string("not a readable checkpoint"));
   }
   throw dld::InputError("--resume: no checkpoint step shared by every program:" + found);
 }

@@ -313,5 +313,18 @@ TEST_F(DldRunMerge, DryRunRefusesAnInvalidMembranePart) {
   EXPECT_EQ(test::wait_for(ok, 30), 0) << slurp(log);
 }
 
+// --resume names each checkpoint it cannot use and why: a corrupt file is not a missing one.
+TEST_F(DldRunMerge, ResumeTellsACorruptCheckpointFromAMissingOne) {
+  std::ofstream(stem() + "-fluid.ckpt.h5") << "cut short by a crash\n";
+  const std::string log = (dir_.path() / "resume.log").string();
+  const auto p =
+      test::spawn({(bin() / "dld-run").string(), scene_, "--membrane", "cells", "--resume"}, log);
+  EXPECT_EQ(test::wait_for(p, 30), 2) << slurp(log);
+  const std::string out = slurp(log);
+  EXPECT_NE(out.find(stem() + "-fluid.ckpt.h5 (not a readable checkpoint)"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find(stem() + "-cells-0.ckpt.h5 (no such file)"), std::string::npos) << out;
+}
+
 }  // namespace
 }  // namespace dld::coupler

@@ -139,6 +139,15 @@ TEST(Scene, MissingFileIsNamed) {
   }
 }
 
+TEST(Scene, ADirectoryIsNotASceneFile) {
+  try {
+    dld::load_scene("/tmp");
+    FAIL() << "no error";
+  } catch (const dld::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), "/tmp: is a directory; expected a scene file (TOML)");
+  }
+}
+
 TEST(Scene, MeshOutputIsOffUnlessAsked) {
   EXPECT_EQ(dld::parse_scene(kGood, "good.toml").output.mesh_every, 0);
   const std::string on = std::string(kGood) + "[output]\nmesh_every = 250\n";
