@@ -5,12 +5,14 @@
 
 #include <filesystem>
 
+#include "fluid/fluid_output.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
 
 namespace dld::fluid {
 
-void write_checkpoint(const std::string& path, const Scene& scene, const FluidSolver& solver) {
+void write_checkpoint(const std::string& path, const Scene& scene, const FluidSolver& solver,
+                      const std::vector<double>& timeseries) {
   const std::filesystem::path p(path);
   if (p.has_parent_path()) std::filesystem::create_directories(p.parent_path());
   const std::string tmp = path + ".tmp";
@@ -30,6 +32,9 @@ void write_checkpoint(const std::string& path, const Scene& scene, const FluidSo
     f.attribute("/fluid", "scene_hash", scene.hash);
     f.attribute("/fluid", "lattice",
                 fmt::format("{} x {} x {}", scene.nx(), scene.ny(), scene.nz()));
+    if (!timeseries.empty())
+      f.write("/fluid/timeseries", timeseries.data(),
+              {timeseries.size() / kTimeseriesColumns, kTimeseriesColumns});
   }
   // Keep the previous checkpoint: if the other side of the run fails while writing its own, the
   // two still share a step to resume from.
@@ -37,7 +42,8 @@ void write_checkpoint(const std::string& path, const Scene& scene, const FluidSo
   std::filesystem::rename(tmp, path);
 }
 
-std::int64_t read_checkpoint(const std::string& path, const Scene& scene, FluidSolver& solver) {
+std::int64_t read_checkpoint(const std::string& path, const Scene& scene, FluidSolver& solver,
+                             std::vector<double>* timeseries) {
   if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: no such checkpoint", path));
   H5File f(path, H5File::Mode::kRead);
   const std::string hash = f.read_attribute_string("/fluid", "scene_hash");
@@ -61,6 +67,16 @@ std::int64_t read_checkpoint(const std::string& path, const Scene& scene, FluidS
             f.read_attribute_number("/fluid", "momentum_y"),
             f.read_attribute_number("/fluid", "momentum_z")};
   solver.restore(pops, m);
+  if (timeseries) {
+    timeseries->clear();
+    if (f.exists("/fluid/timeseries")) {
+      std::vector<std::uint64_t> shape;
+      *timeseries = f.read("/fluid/timeseries", &shape);
+      if (shape.size() != 2 || shape[1] != kTimeseriesColumns)
+        throw InputError(fmt::format("{}: /fluid/timeseries is not rows of {} columns", path,
+                                     kTimeseriesColumns));
+    }
+  }
   return m.steps;
 }
 

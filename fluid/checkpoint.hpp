@@ -7,14 +7,20 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "fluid/fluid_solver.hpp"
 #include "shared/scene.hpp"
 
 namespace dld::fluid {
 
-void write_checkpoint(const std::string& path, const Scene& scene, const FluidSolver& solver);
-/// Restores `solver` from `path`; returns the step it was written at. Throws InputError.
-std::int64_t read_checkpoint(const std::string& path, const Scene& scene, FluidSolver& solver);
+/// `timeseries`: the run file's /timeseries rows so far (kTimeseriesColumns per row), kept so that
+/// a resumed run file starts with them.
+void write_checkpoint(const std::string& path, const Scene& scene, const FluidSolver& solver,
+                      const std::vector<double>& timeseries = {});
+/// Restores `solver` from `path`; returns the step it was written at. Throws InputError. With
+/// `timeseries`, the rows kept with the checkpoint (none for a checkpoint written without them).
+std::int64_t read_checkpoint(const std::string& path, const Scene& scene, FluidSolver& solver,
+                             std::vector<double>* timeseries = nullptr);
 
 }  // namespace dld::fluid

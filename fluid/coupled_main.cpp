@@ -91,19 +91,21 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
   coupler::FluidSide side(fc);
 
+  // The run file's time series up to the checkpoint comes with it: a resumed run file is whole.
+  std::vector<double> timeseries;
   if (!opt.resume.empty()) {
     spdlog::info("resumed from {} at step {}", opt.resume,
-                 read_checkpoint(opt.resume, scene, solver));
+                 read_checkpoint(opt.resume, scene, solver, &timeseries));
   }
   std::unique_ptr<FluidRunFile> out;
   if (!opt.output.empty()) {
-    out = std::make_unique<FluidRunFile>(scene, opt.output);
+    out = std::make_unique<FluidRunFile>(scene, opt.output, timeseries);
   }
   auto checkpoint = [&] {
     if (opt.checkpoint.empty()) {
       return;
     }
-    write_checkpoint(opt.checkpoint, scene, solver);
+    write_checkpoint(opt.checkpoint, scene, solver, out ? out->timeseries() : timeseries);
     spdlog::info("checkpoint at step {}: {}", solver.steps(), opt.checkpoint);
   };
   try {

@@ -15,7 +15,8 @@ H5File create_file(const std::string& path) {
 }
 }  // namespace
 
-FluidRunFile::FluidRunFile(const Scene& scene, const std::string& path)
+FluidRunFile::FluidRunFile(const Scene& scene, const std::string& path,
+                           const std::vector<double>& timeseries)
     : scene_(scene), units_(scene.units()), file_(create_file(path)) {
   file_.attribute("/", "program", std::string("dld-fluid"));
   file_.attribute("/", "scene_name", scene.name);
@@ -35,18 +36,25 @@ FluidRunFile::FluidRunFile(const Scene& scene, const std::string& path)
   file_.attribute(s, "nx", static_cast<std::int64_t>(scene.nx()));
   file_.attribute(s, "ny", static_cast<std::int64_t>(scene.ny()));
   file_.attribute(s, "nz", static_cast<std::int64_t>(scene.nz()));
+  for (std::size_t r = 0; r + kTimeseriesColumns <= timeseries.size(); r += kTimeseriesColumns)
+    append(std::vector<double>(
+        timeseries.begin() + static_cast<std::ptrdiff_t>(r),
+        timeseries.begin() + static_cast<std::ptrdiff_t>(r + kTimeseriesColumns)));
   file_.flush();
+}
+
+void FluidRunFile::append(const std::vector<double>& row) {
+  file_.append_row("/timeseries", row,
+                   {"step", "time_s", "mean_ux_m_s", "mean_uy_m_s", "mean_uz_m_s", "mass_lu",
+                    "gap_flux_m3_s", "force_y_Pa_per_m"});
+  timeseries_.insert(timeseries_.end(), row.begin(), row.end());
 }
 
 void FluidRunFile::sample(const FluidSolver& solver, double gap_flux_m3_s) {
   const auto u = solver.mean_velocity();
-  file_.append_row(
-      "/timeseries",
-      {static_cast<double>(solver.steps()), units_.time_s(solver.steps()),
-       units_.velocity_m_s(u[0]), units_.velocity_m_s(u[1]), units_.velocity_m_s(u[2]),
-       solver.total_mass(), gap_flux_m3_s, units_.force_density_n_m3(solver.force_y())},
-      {"step", "time_s", "mean_ux_m_s", "mean_uy_m_s", "mean_uz_m_s", "mass_lu", "gap_flux_m3_s",
-       "force_y_Pa_per_m"});
+  append({static_cast<double>(solver.steps()), units_.time_s(solver.steps()),
+          units_.velocity_m_s(u[0]), units_.velocity_m_s(u[1]), units_.velocity_m_s(u[2]),
+          solver.total_mass(), gap_flux_m3_s, units_.force_density_n_m3(solver.force_y())});
   file_.flush();
 }
 

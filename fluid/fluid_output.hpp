@@ -3,6 +3,7 @@
 // snapshots (physical units) and results, plus an XDMF side file so ParaView opens the fields.
 // The file is flushed after every write, so an interrupted run keeps what it had written.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -13,9 +14,15 @@
 
 namespace dld::fluid {
 
+/// Columns of a /timeseries row (see FluidRunFile::sample).
+inline constexpr std::size_t kTimeseriesColumns = 8;
+
 class FluidRunFile {
  public:
-  FluidRunFile(const Scene& scene, const std::string& path);
+  /// A new run file; `timeseries`: rows to start /timeseries with (those of a resumed run, from
+  /// its checkpoint).
+  FluidRunFile(const Scene& scene, const std::string& path,
+               const std::vector<double>& timeseries = {});
 
   /// One row of /timeseries: step, time [s], mean u (x, y, z) [m/s], mass [lattice], gap flux
   /// [m^3/s], lateral force [Pa/m].
@@ -26,6 +33,8 @@ class FluidRunFile {
   void result(const std::string& name, double value, const std::string& unit);
   void result_array(const std::string& name, const std::vector<double>& values);
   const std::string& path() const { return file_.path(); }
+  /// Every /timeseries row written, row-major (kTimeseriesColumns each): kept with checkpoints.
+  const std::vector<double>& timeseries() const { return timeseries_; }
   std::string xdmf_path() const;
 
  private:
@@ -34,6 +43,8 @@ class FluidRunFile {
   LatticeUnits units_;
   H5File file_;
   std::vector<std::int64_t> snapshots_;
+  std::vector<double> timeseries_;
+  void append(const std::vector<double>& row);
 };
 
 }  // namespace dld::fluid
