@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -23,6 +24,42 @@ std::byte* map(int fd, std::size_t bytes) {
   return at == MAP_FAILED ? nullptr : static_cast<std::byte*>(at);
 }
 
+// Names this process created and has not unlinked yet. A program stopped by SIGINT or SIGTERM
+// before its peer mapped the segment (before the welcome; afterwards the name is gone) would
+// leave it in /dev/shm: while any is linked, those signals unlink them first, unless the program
+// handles the signal itself. Fixed slots, so that the handler touches no allocator.
+constexpr int kSlots = 16;
+constexpr std::size_t kNameBytes = 64;
+char g_linked[kSlots][kNameBytes] = {};
+
+void unlink_and_die(int sig) {
+  for (auto& name : g_linked)
+    if (name[0] != '\0') shm_unlink(name);  // unlink(2) of /dev/shm/<name> on Linux
+  signal(sig, SIG_DFL);
+  raise(sig);
+}
+
+void remember(const std::string& name) {
+  static std::atomic<bool> installed{false};
+  if (!installed.exchange(true)) {
+    for (const int sig : {SIGINT, SIGTERM}) {
+      struct sigaction now {};
+      if (sigaction(sig, nullptr, &now) == 0 && now.sa_handler == SIG_DFL)
+        signal(sig, unlink_and_die);
+    }
+  }
+  for (auto& slot : g_linked)
+    if (slot[0] == '\0' && name.size() < kNameBytes) {
+      std::memcpy(slot, name.c_str(), name.size() + 1);
+      return;
+    }
+}
+
+void forget(const std::string& name) {
+  for (auto& slot : g_linked)
+    if (name == slot) slot[0] = '\0';
+}
+
 }  // namespace
 
 SharedSegment SharedSegment::create(std::size_t bytes, const std::string& self) {
@@ -35,6 +72,7 @@ SharedSegment SharedSegment::create(std::size_t bytes, const std::string& self) 
                                    std::strerror(errno)));
   }
   segment.owner_ = true;
+  remember(segment.name_);
   if (ftruncate(fd, static_cast<off_t>(bytes)) != 0 ||
       (segment.data_ = map(fd, bytes)) == nullptr) {
     const int error = errno;
@@ -97,6 +135,7 @@ SharedSegment::~SharedSegment() {
 
 void SharedSegment::unlink() noexcept {
   if (owner_) {
+    forget(name_);
     shm_unlink(name_.c_str());
   }
   owner_ = false;

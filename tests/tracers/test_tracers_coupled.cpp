@@ -345,4 +345,22 @@ TEST_F(TracersCoupled, HeldForcesAndViscosityFieldStayCloseAndResumeExactly) {
   EXPECT_LT(apart, 0.01 * moved) << "held forces moved a node by " << apart << " lu of " << moved;
 }
 
+// A membrane program stopped (Ctrl-C, SIGTERM) while it waits for the fluid's welcome removes its
+// shared-memory segment: nothing is left in /dev/shm (issue 18, item 8).
+TEST_F(TracersCoupled, MembraneStoppedBeforeTheWelcomeLeavesNoSharedMemory) {
+  if (std::string(DLD_MEMBRANE_EXE).empty()) GTEST_SKIP() << "membrane part not built";
+  for (const int sig : {SIGINT, SIGTERM}) {
+    Process cell = spawn({DLD_MEMBRANE_EXE, cell_scene("lonely"), "--connect",
+                          "ipc://" + (dir_ / "nobody").string(), "--steps", "10"},
+                         (dir_ / "lonely.log").string());
+    const fs::path segment = "/dev/shm/dld-coupler-" + std::to_string(cell.pid) + "-0";
+    for (int t = 0; t < 600 && !fs::exists(segment); ++t)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_TRUE(fs::exists(segment)) << slurp(cell.log);
+    kill(cell.pid, sig);
+    wait_for(cell, 20);
+    EXPECT_FALSE(fs::exists(segment)) << "signal " << sig << ": " << slurp(cell.log);
+  }
+}
+
 }  // namespace
