@@ -342,6 +342,7 @@ void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
   }
   const std::byte* data = read_nodes(frame, header, peer.nodes, shared ? 0 : 2, link);
   if (shared) {
+    peer.segment.require_size(kSelf, peer.label);
     data = peer.segment.data();
   }
   const std::size_t values = 3 * peer.nodes;
@@ -382,6 +383,7 @@ void FluidSide::send_velocities(std::span<const double> velocities) {
       const auto mine = velocities.subspan(3 * peer.first_node, 3 * peer.nodes);
       zmq::message_t frame;
       if (peer.segment.mapped()) {
+        peer.segment.require_size(kSelf, peer.label);
         std::byte* to = peer.segment.data() + 2 * mine.size_bytes();
         if (static_cast<const void*>(to) != static_cast<const void*>(mine.data())) {
           std::memcpy(to, mine.data(), mine.size_bytes());  // not written through the buffer

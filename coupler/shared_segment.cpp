@@ -107,7 +107,7 @@ SharedSegment SharedSegment::open(const std::string& name, std::size_t bytes,
     throw CouplerError(fmt::format("{}: cannot map the peer's shared memory '{}': {}", self, name,
                                    std::strerror(error)));
   }
-  close(fd);
+  segment.fd_ = fd;
   segment.size_ = bytes;
   return segment;
 }
@@ -116,7 +116,8 @@ SharedSegment::SharedSegment(SharedSegment&& other) noexcept
     : data_(std::exchange(other.data_, nullptr)),
       size_(std::exchange(other.size_, 0)),
       name_(std::move(other.name_)),
-      owner_(std::exchange(other.owner_, false)) {}
+      owner_(std::exchange(other.owner_, false)),
+      fd_(std::exchange(other.fd_, -1)) {}
 
 SharedSegment& SharedSegment::operator=(SharedSegment&& other) noexcept {
   if (this != &other) {
@@ -130,6 +131,16 @@ SharedSegment::~SharedSegment() {
   unlink();
   if (data_ != nullptr) {
     munmap(data_, size_);
+  }
+  if (fd_ >= 0) close(fd_);
+}
+
+void SharedSegment::require_size(const std::string& self, const std::string& peer) const {
+  struct stat info {};
+  if (fd_ < 0) return;
+  if (fstat(fd_, &info) != 0 || static_cast<std::size_t>(info.st_size) < size_) {
+    throw CouplerError(fmt::format("{}: {} shrank its shared memory '{}' to {} bytes (mapped {})",
+                                   self, peer, name_, info.st_size, size_));
   }
 }
 

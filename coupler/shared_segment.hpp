@@ -30,6 +30,9 @@ class SharedSegment {
 
   /// Removes the name (the mapping stays): once both sides have mapped it, nothing can leak.
   void unlink() noexcept;
+  /// For a segment opened from a peer: throws CouplerError naming `self` and `peer` if the peer
+  /// has shrunk it below the mapped size (touching the lost pages would be a SIGBUS).
+  void require_size(const std::string& self, const std::string& peer) const;
 
   bool mapped() const { return data_ != nullptr; }
   std::byte* data() const { return data_; }
@@ -41,6 +44,7 @@ class SharedSegment {
   std::size_t size_ = 0;
   std::string name_;
   bool owner_ = false;  // created here: unlink on destruction if still linked
+  int fd_ = -1;         // opened from a peer: kept to check its size (the peer unlinks the name)
 };
 
 }  // namespace dld::coupler

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cmath>
@@ -71,6 +72,17 @@ void require_resolved_velocities(std::span<const double> u, const coupler::Fluid
 }  // namespace
 
 namespace {
+// Last resort if a membrane peer's shared memory loses pages in the middle of a step (the size is
+// checked before each use, coupler/shared_segment.hpp): a message and an exit code, not a bare
+// SIGBUS; nothing is checkpointed after it.
+void on_sigbus(int) {
+  static const char kMessage[] =
+      "[dld-fluid] error: a membrane peer's shared memory lost pages during a step (SIGBUS); no "
+      "checkpoint written after the last one\n";
+  (void)!write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+  _exit(4);
+}
+
 // Ctrl-C (or dld-run passing one on) ends the run after the current step: the fluid tells every
 // membrane program to stop at the same step, so their files end together.
 volatile sig_atomic_t g_stop = 0;
@@ -140,6 +152,7 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       t0 = t1;
     };
     signal(SIGINT, on_sigint);
+    signal(SIGBUS, on_sigbus);
     auto t0 = Clock::now();
     while (!g_stop && side.receive()) {
       lap(t0, t_wait);

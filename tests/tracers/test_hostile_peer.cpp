@@ -2,11 +2,15 @@
 // dld-fluid against a membrane peer that sends what no membrane model would: non-finite forces
 // (refused as a malformed frame) and forces the lattice cannot take (the run stops at that step,
 // naming the peer). Either way dld-fluid exits non-zero and writes no checkpoint of the state.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -38,7 +42,7 @@ class HostilePeer : public ::testing::Test {
   /// Runs dld-fluid against an in-test membrane of 4 nodes that sends `force` on every node for
   /// up to 3 steps; returns what the membrane side was told (its CouplerError) and leaves the
   /// fluid's exit code in fluid_rc_.
-  std::string run_with_force(double force) {
+  std::string run_with_force(double force, const std::function<void(int)>& before_step = {}) {
     const std::string endpoint = "ipc://" + (dir_ / "sock").string();
     dld::test::Process fluid = spawn(
         {DLD_FLUID_EXE, scene_, "--serve", endpoint, "--cells", "1", "-o",
@@ -60,7 +64,9 @@ class HostilePeer : public ::testing::Test {
       const std::vector<double> x{4, 3, 3, 5, 3, 3, 4, 4, 3, 5, 4, 3};
       const std::vector<double> f(x.size(), force);
       std::vector<double> u(x.size());
-      for (int s = 0; s < 3 && membrane.advance(x, f, u); ++s) {
+      for (int s = 0; s < 3; ++s) {
+        if (before_step) before_step(s);
+        if (!membrane.advance(x, f, u)) break;
       }
       membrane.finalize();
     } catch (const dld::coupler::CouplerError& e) {
@@ -101,6 +107,40 @@ TEST_F(HostilePeer, OrdinaryForcesRunAndCheckpoint) {
   EXPECT_EQ(told, "nothing") << fluid_log_;
   EXPECT_EQ(fluid_rc_, 0) << fluid_log_;
   EXPECT_TRUE(fs::exists(checkpoint()));
+}
+
+/// Shrinks this process's shared-memory segment to `bytes` through /proc/self/map_files (its name
+/// is gone after the welcome); false if this process may not open it (not root).
+bool shrink_own_segment(off_t bytes) {
+  std::ifstream maps("/proc/self/maps");
+  std::string line;
+  const std::string name = "/dev/shm/dld-coupler-" + std::to_string(getpid()) + "-";
+  while (std::getline(maps, line)) {
+    if (line.find(name) == std::string::npos) continue;
+    const int fd = open(("/proc/self/map_files/" + line.substr(0, line.find(' '))).c_str(), O_RDWR);
+    if (fd < 0) return false;
+    const bool done = ftruncate(fd, bytes) == 0;
+    close(fd);
+    return done;
+  }
+  return false;
+}
+
+// A peer that shrinks its shared memory after the welcome (issue 18, item 4): the fluid stops
+// with the peer and the segment named, not with a SIGBUS, and writes no checkpoint after it.
+TEST_F(HostilePeer, ASharedSegmentShrunkAfterTheWelcomeIsAnErrorNotASignal) {
+  bool shrunk = false;
+  // 4 nodes: positions and forces are the first 192 bytes of 288, all in one page, so this
+  // process can still write them; the fluid must notice the size, not touch a lost page.
+  const std::string told = run_with_force(1e-6, [&](int step) {
+    if (step == 1) shrunk = shrink_own_segment(192);
+  });
+  if (!shrunk) GTEST_SKIP() << "cannot open this process's shared memory (needs root)";
+  EXPECT_NE(fluid_log_.find("membrane 'membrane-0' shrank its shared memory"), std::string::npos)
+      << fluid_log_;
+  EXPECT_NE(told.find("shrank its shared memory"), std::string::npos) << told;
+  EXPECT_NE(fluid_rc_, 0) << fluid_log_;
+  EXPECT_LT(fluid_rc_, 128) << "killed by a signal: " << fluid_log_;
 }
 
 }  // namespace
