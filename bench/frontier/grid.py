@@ -20,8 +20,9 @@ KNOBS = {
                               lambda v: _int(v) and 1 <= v <= 1000, "steps 1..1000"),
 }
 KINDS = {"dilute": ("row_shift_um", "capillary_number", "columns"),
-         "dense": ("row_shift_um", "capillary_number", "cells", "t_pprime_Pa_s_per_m")}
-OPTIONAL = {"dilute": ("reference_run",), "dense": ("seed",)}
+         "dense": ("row_shift_um", "capillary_number", "cells", "t_pprime_Pa_s_per_m"),
+         "stability": ("row_shift_um", "capillary_number", "cells", "steps")}
+OPTIONAL = {"dilute": ("reference_run",), "dense": ("seed",), "stability": ("seed",)}
 
 
 def _num(v):
@@ -102,9 +103,11 @@ def _problem(path, i, t):
             raise GridError(f"{path}: {where} ({name}): 'columns' = {c!r}: expected [first, last] "
                             "whole columns, 1 <= first < last <= 200")
     else:
+        if kind == "stability" and not (_int(t["steps"]) and 1 <= t["steps"] <= 10**9):
+            raise GridError(f"{path}: {where} ({name}): 'steps' = {t['steps']!r}: expected 1..10^9")
         if not (_int(t["cells"]) and 1 <= t["cells"] <= 40):
             raise GridError(f"{path}: {where} ({name}): 'cells' = {t['cells']!r}: expected 1..40")
-        if not (_num(t["t_pprime_Pa_s_per_m"]) and t["t_pprime_Pa_s_per_m"] > 0):
+        if kind == "dense" and not (_num(t["t_pprime_Pa_s_per_m"]) and t["t_pprime_Pa_s_per_m"] > 0):
             raise GridError(f"{path}: {where} ({name}): 't_pprime_Pa_s_per_m' must be > 0")
     return Problem(name, kind, {k: v for k, v in t.items() if k not in ("name", "kind")})
 

@@ -42,7 +42,7 @@ def scene_for(grid, problem, point, stem):
     scene_text.set_key(doc, "output.fields", False)
     scene_text.set_key(doc, "run.threads", 1)
     scene_text.set_key(doc, "coupling.timeout_s", 300.0)
-    if problem.kind == "dense":
+    if problem.kind in ("dense", "stability"):
         doc["cells"] = {"count": v["cells"], "seed": v.get("seed", 1)}
     return doc
 
@@ -221,6 +221,8 @@ def run(grid, problem, point, out, exe):
             steps = math.ceil(1.02 * problem.values["t_pprime_Pa_s_per_m"] / pprime / dt) + 10
             scene_text.set_key(doc, "run.log_every", max(10, steps // 100))
             args = ["--steps", str(steps)]
+        elif problem.kind == "stability":
+            args = ["--steps", str(problem.values["steps"])]
         else:
             args = ["--steps", "1000000000000", "--pillars", str(problem.values["columns"][1])]
     except RuntimeError as e:
@@ -246,7 +248,11 @@ def run(grid, problem, point, out, exe):
     if r.returncode != 0:
         f = _failure(stem) or ("failed", f"dld-run exit code {r.returncode}")
         return _keep(result_file, {"status": f[0], "why": f[1]})
-    if problem.kind == "dense":
+    if problem.kind == "stability":
+        res = {"status": "ok", "why": f"ran {problem.values['steps']} steps",
+               "steps_per_s": _steps_per_s(stem),
+               "volume_change_pct": _largest_volume_change(stem)}
+    elif problem.kind == "dense":
         empty = os.path.join(d, "empty.h5")
         with open(os.path.join(d, "empty.out"), "w") as log:
             e = subprocess.run([exe["fluid"], scene, "--steps", args[1], "--threads", "1",

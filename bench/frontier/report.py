@@ -15,12 +15,12 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 
-TOLERANCE = {"dilute": 0.03, "dense": 0.05}  # issue 17: `fast` is within these of the reference
+TOLERANCE = {"dilute": 0.03, "dense": 0.05, "stability": 0.0}  # issue 17: `fast` is within these of the reference
 FLOOR = 1e-4  # where a zero error is drawn on the log axis
 
 
 def error(problem, res, ref):
-    if res.get("status") != "ok" or ref.get("status") != "ok":
+    if problem.kind == "stability" or res.get("status") != "ok" or ref.get("status") != "ok":
         return math.nan
     if problem.kind == "dilute":
         return abs(res["shift_per_column_um"] - ref["shift_per_column_um"]) / res["row_shift_um"]
@@ -67,14 +67,39 @@ def plot(problem, rows, path):
     plt.close(fig)
 
 
+def _case(problem):
+    v = problem.values
+    if problem.kind == "dilute":
+        return f", columns {v['columns'][0]}-{v['columns'][1]})"
+    if problem.kind == "dense":
+        return f", {v['cells']} cells, t p' = {v['t_pprime_Pa_s_per_m']} Pa s/m)"
+    return f", {v['cells']} cells, {v['steps']} steps)"
+
+
+def envelope(problem, grid, results):
+    """Per dx, the largest Re whose run of the stability problem went through, and the first
+    failure above it (issue 17: the stability envelope)."""
+    by_dx = {}
+    for p in grid.points:
+        r = results[(problem.name, p.name)]
+        by_dx.setdefault(p.knobs["dx_um"], []).append((p.knobs["reynolds"], r, p.name))
+    lines = ["| dx [um] | largest stable Re | first unstable (Re: what stopped it) |",
+             "|---:|---:|---|"]
+    for dx in sorted(by_dx):
+        runs = sorted(by_dx[dx], key=lambda t: t[0])
+        stable = [re for re, r, _ in runs if r.get("status") == "ok"]
+        bad = [(re, r) for re, r, _ in runs if r.get("status", "").startswith("unstable")]
+        first = (f"{bad[0][0]}: {bad[0][1]['status']} ({bad[0][1].get('why', '')})" if bad
+                 else "none in the grid")
+        lines.append(f"| {dx:.4g} | {max(stable) if stable else '-'} | {first} |")
+    return lines
+
+
 def _problem_table(problem, grid, results):
     ref = results[(problem.name, "reference")]
     lines = [f"### {problem.name} ({problem.kind}: d {problem.values['row_shift_um']} um, "
              f"Ca {problem.values['capillary_number']}"
-             + (f", columns {problem.values['columns'][0]}-{problem.values['columns'][1]})"
-                if problem.kind == "dilute" else
-                f", {problem.values['cells']} cells, t p' = {problem.values['t_pprime_Pa_s_per_m']}"
-                " Pa s/m)"), ""]
+             + _case(problem), ""]
     metric = "shift/col [um]" if problem.kind == "dilute" else "mobility"
     lines.append(f"| setting | knobs | status | {metric} | error | mode | largest dV [%] | "
                  "steps/pillar | steps/s | wall s/pillar |")
@@ -103,6 +128,8 @@ def choose(grid, results):
     for p in grid.points:
         ok, cost = True, 0.0
         for prob in grid.problems:
+            if prob.kind == "stability":
+                continue
             r, ref = results[(prob.name, p.name)], results[(prob.name, "reference")]
             e = error(prob, r, ref)
             ok &= not math.isnan(e) and e <= TOLERANCE[prob.kind]
@@ -120,10 +147,17 @@ def write(grid, results, doc_path, fig_dir, header):
     lines = [f"# Speed against error: {grid.title}", "", *header, ""]
     for prob in grid.problems:
         table, rows = _problem_table(prob, grid, results)
+        if prob.kind == "stability":
+            lines += table + ["", "Stability envelope:", ""] + envelope(prob, grid, results) + [""]
+            continue
         png = os.path.join(fig_dir, f"frontier-{prob.name}.png")
         plot(prob, rows, png)
         lines += table + ["", f"![{prob.name}]({os.path.relpath(png, os.path.dirname(doc_path))})",
                           "", "Pareto front: " + ", ".join(sorted(pareto(rows))), ""]
+    if not any(p.kind in ("dilute", "dense") for p in grid.problems):
+        with open(doc_path, "w") as f:
+            f.write("\n".join(lines) + "\n")
+        return None
     best = choose(grid, results)
     lines += ["## The cheapest setting within tolerance", "",
               f"Tolerances: dilute shift within {TOLERANCE['dilute']:.0%} of d and the same mode; "

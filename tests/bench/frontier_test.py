@@ -47,6 +47,11 @@ class QuickGrid(unittest.TestCase):
                 with open(png, "rb") as f:
                     self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
             self.assertIn("## The cheapest setting within tolerance", report)
+            # The stability problem: Re 0.25 runs its 300 steps, Re 1 does not (the envelope).
+            t = rows(report, "hard3")
+            self.assertEqual(t["reference"][2], "ok: ran 300 steps", t)
+            self.assertRegex(t["re1"][2], r"^unstable at step \d+")
+            self.assertRegex(report, r"\| 0\.8 \| 0\.25 \| 1\.0: unstable at step \d+")
             # A second call reads the finished points back instead of running them again.
             again = frontier("--quick", "--out", d, "--jobs", "2")
             self.assertEqual(again.returncode, 0, again.stderr)
