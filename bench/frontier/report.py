@@ -19,6 +19,26 @@ TOLERANCE = {"dilute": 0.03, "dense": 0.05, "stability": 0.0}  # issue 17: `fast
 FLOOR = 1e-4  # where a zero error is drawn on the log axis
 
 
+GUIDE = """\
+Each point changes numerics only (lattice spacing, mesh, Reynolds number, kernel, update
+intervals); the cell is the same at every point (C = 350.3 Ca, kappa_V, contact range relative
+to r: `StudyCell` test). Errors are against the grid's reference point, which is itself only as
+converged as the table shows (compare it with the point that refines it, e.g. Re 0.05):
+- dilute: |s - s_ref| / d, s the lateral shift per column over the stated columns (after the
+  entry transient), and whether the mode is the reference's;
+- dense: |M - M_ref| / M_ref, M = u_x / u_x,empty at the stated t p' (both flows from rest);
+- cost: steps per pillar (deterministic) and wall seconds per pillar on one core (steps per
+  pillar / coupled steps per second of the run; noisy on a shared machine: compare steps per
+  pillar first).
+
+How to pick a setting for a new question: take the cheapest point whose errors on the problem
+closest to yours (one cell: dilute; a suspension: dense) are within what the question can
+afford, with the reference's mode; a question about a mode boundary (a case near the critical
+diameter) needs the dilute error well below the margin to the boundary. If no point is close
+enough, run the grid with your case as a problem (a [[problem]] table; `bench/frontier/frontier
+--grid FILE` resumes what was run).""".splitlines()
+
+
 def error(problem, res, ref):
     if problem.kind == "stability" or res.get("status") != "ok" or ref.get("status") != "ok":
         return math.nan
@@ -144,7 +164,7 @@ def choose(grid, results):
 
 def write(grid, results, doc_path, fig_dir, header):
     os.makedirs(fig_dir, exist_ok=True)
-    lines = [f"# Speed against error: {grid.title}", "", *header, ""]
+    lines = [f"# Speed against error: {grid.title}", "", *header, "", *GUIDE, ""]
     for prob in grid.problems:
         table, rows = _problem_table(prob, grid, results)
         if prob.kind == "stability":
