@@ -16,6 +16,8 @@
 #include <csignal>
 #include <filesystem>
 #include <optional>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "coupler/endpoint.hpp"
@@ -43,218 +45,290 @@ std::optional<double> capillary_number(const Scene& scene) {
   return std::nullopt;
 }
 
-}  // namespace
+using Clock = std::chrono::steady_clock;
 
-int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a) {
+/// This process's share of the scene's cells: [first, last) of all of them. Contact with cells of
+/// other processes is not seen (one process sees all).
+struct Share {
+  CellSet cells;
+  int total = 0, first = 0;
+};
+
+Share share_of(const Scene& scene, const MembraneScene& m, const CoupledArgs& a) {
   const CellSet all = build_cells(m, scene);
   const int total = all.cell_count();
   const int first = total * a.peer / a.peers, last = total * (a.peer + 1) / a.peers;
-  // This process's share; contact with cells of other processes is not seen (one process sees all).
   CellSet cells(all.reference(), all.mechanics(), all.contact());
   for (int k = first; k < last; ++k) cells.add_cell(Points(all.cell_positions(k)));
-  std::vector<double> v0;
-  v0.reserve(static_cast<std::size_t>(cells.cell_count()));
-  for (int k = 0; k < cells.cell_count(); ++k) v0.push_back(cells.volume(k));
+  return {std::move(cells), total, first};
+}
 
-  coupler::MembraneConfig mc;
-  mc.scene = coupler::scene_identity(scene, static_cast<std::uint32_t>(total));
-  mc.endpoint = coupler::peer_endpoints(a.endpoint, static_cast<std::size_t>(a.peers))[a.peer];
-  mc.name = fmt::format("membrane-{}", a.peer);
-  mc.peer_index = static_cast<std::uint32_t>(a.peer);
-  mc.peer_count = static_cast<std::uint32_t>(a.peers);
-  mc.first_cell = static_cast<std::uint32_t>(first);
-  mc.cell_nodes.assign(static_cast<std::size_t>(cells.cell_count()),
-                       static_cast<std::uint32_t>(cells.nodes_per_cell()));
-  mc.options.timeout =
-      std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
-  coupler::MembraneSide side(mc);
-  // Every cell shares the reference mesh's triangles; the fluid needs them for the inside/outside
-  // viscosity field (protocol v2), so they are sent once, in the hello.
-  side.set_cell_surfaces(
-      std::vector<std::uint32_t>(static_cast<std::size_t>(cells.cell_count()),
-                                 static_cast<std::uint32_t>(cells.reference().face_count())),
-      face_indices(cells.reference(), cells.cell_count()));
+/// One coupled run of this process's cells, in named steps: set-up (connect, resume), the step
+/// loop, and its samples, checkpoints, progress lines and summary.
+class CoupledRun {
+ public:
+  CoupledRun(const Scene& scene, const MembraneScene& m, const CoupledArgs& a);
+  int run();
 
-  const double dx_um = scene.lattice.dx_um;
-  const RunFacts facts{
-      cells.cell_count(),  first,      scene.units().dt_s(),    scene.cell_um.lambda,
-      scene.cell_um.shift, scene.name, capillary_number(scene), m.expected_mode};
-  auto centroids_um = [&] {
-    std::vector<Eigen::Vector3d> c;
-    c.reserve(static_cast<std::size_t>(cells.cell_count()));
-    for (int k = 0; k < cells.cell_count(); ++k) c.push_back(cells.centroid(k) * dx_um);
-    return c;
-  };
-  // Resuming: the cells' nodes and the samples so far come from the checkpoint, and the tracker
-  // replays the samples from the cells' starts.
-  const RunCheckpoint expected{0,  scene.hash, first, cells.cell_count(), cells.nodes_per_cell(),
-                               {}, {}};
-  std::int64_t offset = 0;
-  std::vector<double> rows;
-  if (!a.resume.empty()) {
-    RunCheckpoint c = read_run_checkpoint(a.resume, expected);
-    cells.positions() = c.positions;
-    rows = std::move(c.rows);
-    offset = c.step;
-    spdlog::info("resumed from {} at step {}", a.resume, offset);
+ private:
+  coupler::MembraneConfig config() const;
+  void resume();
+  void open_output();
+  std::string step_loop(std::int64_t& s);
+  void sample(std::int64_t step);
+  void sample_mesh(std::int64_t step) {
+    if (mesh_) mesh_->append(step, cells_.positions() * dx_um_);
   }
-  const std::size_t width = 1 + 4 * static_cast<std::size_t>(cells.cell_count());
-  auto row_centroids = [&](std::size_t r) {
-    std::vector<Eigen::Vector3d> c;
-    for (int k = 0; k < cells.cell_count(); ++k) {
-      const double* v = &rows[r * width + 1 + 4 * static_cast<std::size_t>(k)];
-      c.emplace_back(v[0], v[1], v[2]);
-    }
-    return c;
-  };
-  ColumnTracker tracker(facts.lambda_um, facts.row_shift_um,
-                        rows.empty() ? centroids_um() : row_centroids(0));
-  for (std::size_t r = 1; r < rows.size() / width; ++r) tracker.update(row_centroids(r));
-  double done_at_start = 0;
-  for (int k = 0; k < cells.cell_count(); ++k)
-    done_at_start = k == 0 ? tracker.fractional_columns(k)
-                           : std::min(done_at_start, tracker.fractional_columns(k));
+  void checkpoint(std::int64_t step) const;
+  void progress(std::int64_t step) const;
+  void summary() const;
+  double slowest_columns() const;
+  std::vector<Eigen::Vector3d> centroids_um() const;
+  std::vector<Eigen::Vector3d> row_centroids(std::size_t r) const;
+
+  const Scene& scene_;
+  const CoupledArgs& a_;
+  Share share_;
+  CellSet& cells_ = share_.cells;
+  const int first_ = share_.first;
+  const double dx_um_;
+  std::vector<double> v0_;
+  coupler::MembraneSide side_;
+  RunFacts facts_;
+  RunCheckpoint expected_;
+  std::int64_t offset_ = 0;
+  std::vector<double> rows_;  ///< samples: step, then per cell centroid [um] and volume [um^3]
+  std::size_t width_;
+  std::optional<ColumnTracker> tracker_;
+  double done_at_start_ = 0;
   // Stops the run at once when a cell goes unstable; no checkpoint is written after that, so the
   // last one on disk is the last good state.
-  StabilityGuard guard(scene.cell_lu(), dx_um, GuardLimits{}, v0);
-  auto checkpoint = [&](std::int64_t step) {
-    if (a.checkpoint.empty()) return;
-    RunCheckpoint c = expected;
-    c.step = step;
-    c.positions = cells.positions();
-    c.rows = rows;
-    write_run_checkpoint(a.checkpoint, c);
-  };
-  // Made once connected (an error then reaches the fluid through the coupler); on resume it
-  // starts from the checkpoint's samples.
-  std::optional<CellsPartFile> part;
-  std::optional<MeshOutput> mesh;
-  const std::int64_t mesh_every = scene.output.mesh_every;
-  auto open_output = [&] {
-    if (a.output.empty()) {
-      if (mesh_every > 0) spdlog::warn("[output] mesh_every: no output file (-o), no meshes");
-      return;
+  std::optional<StabilityGuard> guard_;
+  std::optional<CellsPartFile> part_;  // made once connected: an error then reaches the fluid
+  std::optional<MeshOutput> mesh_;
+  Clock::time_point start_;
+  double t_membrane_ = 0, t_exchange_ = 0;
+};
+
+std::vector<double> volumes(const CellSet& cells) {
+  std::vector<double> v;
+  v.reserve(static_cast<std::size_t>(cells.cell_count()));
+  for (int k = 0; k < cells.cell_count(); ++k) v.push_back(cells.volume(k));
+  return v;
+}
+
+CoupledRun::CoupledRun(const Scene& scene, const MembraneScene& m, const CoupledArgs& a)
+    : scene_(scene),
+      a_(a),
+      share_(share_of(scene, m, a)),
+      dx_um_(scene.lattice.dx_um),
+      v0_(volumes(cells_)),
+      side_(config()),
+      facts_{cells_.cell_count(), first_,     scene.units().dt_s(),    scene.cell_um.lambda,
+             scene.cell_um.shift, scene.name, capillary_number(scene), m.expected_mode},
+      expected_{0, scene.hash, first_, cells_.cell_count(), cells_.nodes_per_cell(), {}, {}},
+      width_(1 + 4 * static_cast<std::size_t>(cells_.cell_count())) {
+  // Every cell shares the reference mesh's triangles; the fluid needs them for the inside/outside
+  // viscosity field (protocol v2), so they are sent once, in the hello.
+  side_.set_cell_surfaces(
+      std::vector<std::uint32_t>(static_cast<std::size_t>(cells_.cell_count()),
+                                 static_cast<std::uint32_t>(cells_.reference().face_count())),
+      face_indices(cells_.reference(), cells_.cell_count()));
+  resume();
+  guard_.emplace(scene.cell_lu(), dx_um_, GuardLimits{}, v0_);
+}
+
+coupler::MembraneConfig CoupledRun::config() const {
+  coupler::MembraneConfig mc;
+  mc.scene = coupler::scene_identity(scene_, static_cast<std::uint32_t>(share_.total));
+  mc.endpoint = coupler::peer_endpoints(a_.endpoint, static_cast<std::size_t>(a_.peers))[a_.peer];
+  mc.name = fmt::format("membrane-{}", a_.peer);
+  mc.peer_index = static_cast<std::uint32_t>(a_.peer);
+  mc.peer_count = static_cast<std::uint32_t>(a_.peers);
+  mc.first_cell = static_cast<std::uint32_t>(first_);
+  mc.cell_nodes.assign(static_cast<std::size_t>(cells_.cell_count()),
+                       static_cast<std::uint32_t>(cells_.nodes_per_cell()));
+  mc.options.timeout =
+      std::chrono::milliseconds(static_cast<long>(scene_.coupling.timeout_s * 1000));
+  return mc;
+}
+
+std::vector<Eigen::Vector3d> CoupledRun::centroids_um() const {
+  std::vector<Eigen::Vector3d> c;
+  c.reserve(static_cast<std::size_t>(cells_.cell_count()));
+  for (int k = 0; k < cells_.cell_count(); ++k) c.push_back(cells_.centroid(k) * dx_um_);
+  return c;
+}
+
+std::vector<Eigen::Vector3d> CoupledRun::row_centroids(std::size_t r) const {
+  std::vector<Eigen::Vector3d> c;
+  for (int k = 0; k < cells_.cell_count(); ++k) {
+    const double* v = &rows_[r * width_ + 1 + 4 * static_cast<std::size_t>(k)];
+    c.emplace_back(v[0], v[1], v[2]);
+  }
+  return c;
+}
+
+double CoupledRun::slowest_columns() const {  // columns of the slowest cell, fractional
+  double done = 0;
+  for (int k = 0; k < cells_.cell_count(); ++k)
+    done =
+        k == 0 ? tracker_->fractional_columns(k) : std::min(done, tracker_->fractional_columns(k));
+  return done;
+}
+
+// Resuming: the cells' nodes and the samples so far come from the checkpoint, and the tracker
+// replays the samples from the cells' starts.
+void CoupledRun::resume() {
+  if (!a_.resume.empty()) {
+    RunCheckpoint c = read_run_checkpoint(a_.resume, expected_);
+    cells_.positions() = c.positions;
+    rows_ = std::move(c.rows);
+    offset_ = c.step;
+    spdlog::info("resumed from {} at step {}", a_.resume, offset_);
+  }
+  tracker_.emplace(facts_.lambda_um, facts_.row_shift_um,
+                   rows_.empty() ? centroids_um() : row_centroids(0));
+  for (std::size_t r = 1; r < rows_.size() / width_; ++r) tracker_->update(row_centroids(r));
+  done_at_start_ = slowest_columns();
+}
+
+void CoupledRun::checkpoint(std::int64_t step) const {
+  if (a_.checkpoint.empty()) return;
+  RunCheckpoint c = expected_;
+  c.step = step;
+  c.positions = cells_.positions();
+  c.rows = rows_;
+  write_run_checkpoint(a_.checkpoint, c);
+}
+
+void CoupledRun::open_output() {
+  const std::int64_t mesh_every = scene_.output.mesh_every;
+  if (a_.output.empty()) {
+    if (mesh_every > 0) spdlog::warn("[output] mesh_every: no output file (-o), no meshes");
+    return;
+  }
+  part_.emplace(a_.output, facts_, rows_,
+                a_.resume.empty() ? std::nullopt : std::optional<std::int64_t>(offset_));
+  if (mesh_every > 0) {
+    mesh_.emplace(part_->file(), cells_.reference(), cells_.cell_count(), first_, facts_.dt_s);
+  } else {
+    // An earlier run's XDMF would name meshes this part file does not hold.
+    std::error_code ignored;
+    std::filesystem::remove(mesh_xdmf_path(a_.output), ignored);
+  }
+}
+
+void CoupledRun::sample(std::int64_t step) {
+  const std::size_t begin = rows_.size();
+  rows_.push_back(static_cast<double>(step));
+  const auto c = centroids_um();
+  for (int k = 0; k < cells_.cell_count(); ++k)
+    rows_.insert(rows_.end(),
+                 {c[k].x(), c[k].y(), c[k].z(), cells_.volume(k) * dx_um_ * dx_um_ * dx_um_});
+  tracker_->update(c);
+  if (part_)
+    part_->append(
+        std::vector<double>(rows_.begin() + static_cast<std::ptrdiff_t>(begin), rows_.end()));
+}
+
+void CoupledRun::progress(std::int64_t step) const {
+  const double secs = std::chrono::duration<double>(Clock::now() - start_).count();
+  const double done = slowest_columns();
+  std::string eta;
+  if (a_.pillars > 0 && done - done_at_start_ > 0.05)
+    eta = fmt::format("  ETA {:.0f} s", secs * (a_.pillars - done) / (done - done_at_start_));
+  std::string modes;
+  for (int k = 0; k < cells_.cell_count() && k < 4; ++k)
+    modes += fmt::format(
+        " {}:{}{}", first_ + k, to_string(tracker_->mode(k)),
+        tracker_->mode(k) != TransportMode::kUndecided && !tracker_->certain(k) ? "?" : "");
+  spdlog::info("step {:>9}  pillars passed {:.2f}{}  {:.1f} steps/s{}  modes{}", step, done,
+               a_.pillars > 0 ? fmt::format("/{}", a_.pillars) : std::string(),
+               static_cast<double>(step - offset_) / secs, eta, modes);
+}
+
+void CoupledRun::summary() const {
+  for (int k = 0; k < cells_.cell_count(); ++k)
+    spdlog::info(
+        "summary: cell {}  mode {}  columns {}  lateral shift per column {:.3f} um "
+        "(d = {} um)  volume change {:+.3f} % (largest {:.3f} %)  deepest node in a wall or "
+        "the pillar {:.3f} um",
+        first_ + k, to_string(tracker_->final_mode(k)), tracker_->columns(k),
+        tracker_->shift_per_column(k), facts_.row_shift_um,
+        100 * (cells_.volume(k) / v0_[static_cast<std::size_t>(k)] - 1),
+        100 * guard_->worst_volume_change(k), guard_->worst_penetration_um(k));
+}
+
+// The steps from s on: forces, the exchange (which includes waiting for the fluid's step), moving
+// the nodes (no-slip: X += U dt, dt = 1), then samples, stop rules, checkpoints and progress.
+// Returns why it ended; wall time per step goes to t_membrane_ (forces, moving the nodes) and
+// t_exchange_ (the exchange, which includes waiting for the fluid's step).
+std::string CoupledRun::step_loop(std::int64_t& s) {
+  Points force;
+  std::vector<double> u(static_cast<std::size_t>(3 * cells_.node_count()));
+  const std::int64_t s0 = s;
+  const std::int64_t force_every = scene_.coupling.force_every;
+  const std::int64_t mesh_every = scene_.output.mesh_every;
+  for (; s < a_.steps && !g_stop; ++s) {
+    const auto t0 = Clock::now();
+    // Time-scale separation ([coupling] force_every): between updates the last forces are held.
+    if (s % force_every == 0 || s == s0) cells_.compute_forces(force);
+    const std::span<const double> f(force.data(), static_cast<std::size_t>(force.size()));
+    const auto t1 = Clock::now();
+    if (!side_.advance(cells_.flat_positions(), f, u)) return "the fluid ended the run";
+    const auto t2 = Clock::now();
+    cells_.move(std::span<const double>(u), 1.0);
+    t_membrane_ += std::chrono::duration<double>(t1 - t0 + (Clock::now() - t2)).count();
+    t_exchange_ += std::chrono::duration<double>(t2 - t1).count();
+    if (mesh_every > 0 && (s + 1) % mesh_every == 0) sample_mesh(s + 1);
+    if ((s + 1) % a_.sample_every == 0) {
+      sample(s + 1);
+      guard_->check(cells_, s + 1, first_);
+      if (a_.pillars > 0 && tracker_->min_columns() >= a_.pillars) {
+        ++s;
+        return fmt::format("every cell passed {} pillars", a_.pillars);
+      }
+      if (a_.stop_when_mode_certain && tracker_->all_modes_certain()) {
+        ++s;
+        return "every cell's mode is certain";
+      }
     }
-    part.emplace(a.output, facts, rows,
-                 a.resume.empty() ? std::nullopt : std::optional<std::int64_t>(offset));
-    if (mesh_every > 0) {
-      mesh.emplace(part->file(), cells.reference(), cells.cell_count(), first, facts.dt_s);
-    } else {
-      // An earlier run's XDMF would name meshes this part file does not hold.
-      std::error_code ignored;
-      std::filesystem::remove(mesh_xdmf_path(a.output), ignored);
-    }
-  };
-  auto sample = [&](std::int64_t step) {
-    const std::size_t begin = rows.size();
-    rows.push_back(static_cast<double>(step));
-    const auto c = centroids_um();
-    for (int k = 0; k < cells.cell_count(); ++k)
-      rows.insert(rows.end(),
-                  {c[k].x(), c[k].y(), c[k].z(), cells.volume(k) * dx_um * dx_um * dx_um});
-    tracker.update(c);
-    if (part)
-      part->append(
-          std::vector<double>(rows.begin() + static_cast<std::ptrdiff_t>(begin), rows.end()));
-  };
-  auto sample_mesh = [&](std::int64_t step) {
-    if (mesh) mesh->append(step, cells.positions() * dx_um);
-  };
+    if (a_.checkpoint_every > 0 && (s + 1) % a_.checkpoint_every == 0) checkpoint(s + 1);
+    if ((s + 1) % scene_.run.log_every == 0) progress(s + 1);
+  }
+  return g_stop ? "interrupted" : "step limit reached";
+}
+
+int CoupledRun::run() {
   auto finish = [&] {
-    if (part) part->file().flush();
+    if (part_) part_->file().flush();
   };
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  auto progress = [&](std::int64_t step) {
-    const double secs = std::chrono::duration<double>(Clock::now() - start).count();
-    double done = 0;  // columns of the slowest cell, fractional
-    for (int k = 0; k < cells.cell_count(); ++k)
-      done = k == 0 ? tracker.fractional_columns(k) : std::min(done, tracker.fractional_columns(k));
-    std::string eta;
-    if (a.pillars > 0 && done - done_at_start > 0.05)
-      eta = fmt::format("  ETA {:.0f} s", secs * (a.pillars - done) / (done - done_at_start));
-    std::string modes;
-    for (int k = 0; k < cells.cell_count() && k < 4; ++k)
-      modes += fmt::format(
-          " {}:{}{}", first + k, to_string(tracker.mode(k)),
-          tracker.mode(k) != TransportMode::kUndecided && !tracker.certain(k) ? "?" : "");
-    spdlog::info("step {:>9}  pillars passed {:.2f}{}  {:.1f} steps/s{}  modes{}", step, done,
-                 a.pillars > 0 ? fmt::format("/{}", a.pillars) : std::string(),
-                 static_cast<double>(step - offset) / secs, eta, modes);
-  };
-  auto summary = [&] {
-    for (int k = 0; k < cells.cell_count(); ++k)
-      spdlog::info(
-          "summary: cell {}  mode {}  columns {}  lateral shift per column {:.3f} um "
-          "(d = {} um)  volume change {:+.3f} % (largest {:.3f} %)  deepest node in a wall or "
-          "the pillar {:.3f} um",
-          first + k, to_string(tracker.final_mode(k)), tracker.columns(k),
-          tracker.shift_per_column(k), facts.row_shift_um,
-          100 * (cells.volume(k) / v0[static_cast<std::size_t>(k)] - 1),
-          100 * guard.worst_volume_change(k), guard.worst_penetration_um(k));
-  };
+  start_ = Clock::now();
   try {
-    side.initialize();
+    side_.initialize();
     signal(SIGINT, on_sigint);
-    spdlog::info("{} cells ({} nodes) of {}, connected", cells.cell_count(), cells.node_count(),
-                 total);
-    Points force;
-    std::vector<double> u(static_cast<std::size_t>(3 * cells.node_count()));
+    spdlog::info("{} cells ({} nodes) of {}, connected", cells_.cell_count(), cells_.node_count(),
+                 share_.total);
     open_output();
-    if (rows.empty()) sample(0);
+    if (rows_.empty()) sample(0);
     // The start, and on resume the checkpoint's step when its sample was lost with the previous
     // part file.
-    if (mesh && offset % mesh_every == 0 &&
-        (mesh->samples().empty() || mesh->samples().back().step < offset))
-      sample_mesh(offset);
-    std::int64_t s = offset;
-    std::string reason = "step limit reached";
-    // Wall time per step: membrane work (forces, moving the nodes) and the exchange, which includes
-    // waiting for the fluid's step.
-    double t_membrane = 0, t_exchange = 0;
-    const std::int64_t s0 = s;
-    const std::int64_t force_every = scene.coupling.force_every;
-    for (; s < a.steps && !g_stop; ++s) {
-      const auto t0 = Clock::now();
-      // Time-scale separation ([coupling] force_every): between updates the last forces are held.
-      if (s % force_every == 0 || s == s0) cells.compute_forces(force);
-      const std::span<const double> f(force.data(), static_cast<std::size_t>(force.size()));
-      const auto t1 = Clock::now();
-      if (!side.advance(cells.flat_positions(), f, u)) {
-        reason = "the fluid ended the run";
-        break;
-      }
-      const auto t2 = Clock::now();
-      cells.move(std::span<const double>(u), 1.0);
-      t_membrane += std::chrono::duration<double>(t1 - t0 + (Clock::now() - t2)).count();
-      t_exchange += std::chrono::duration<double>(t2 - t1).count();
-      if (mesh_every > 0 && (s + 1) % mesh_every == 0) sample_mesh(s + 1);
-      if ((s + 1) % a.sample_every == 0) {
-        sample(s + 1);
-        guard.check(cells, s + 1, first);
-        if (a.pillars > 0 && tracker.min_columns() >= a.pillars) {
-          reason = fmt::format("every cell passed {} pillars", a.pillars);
-          ++s;
-          break;
-        }
-        if (a.stop_when_mode_certain && tracker.all_modes_certain()) {
-          reason = "every cell's mode is certain";
-          ++s;
-          break;
-        }
-      }
-      if (a.checkpoint_every > 0 && (s + 1) % a.checkpoint_every == 0) checkpoint(s + 1);
-      if ((s + 1) % scene.run.log_every == 0) progress(s + 1);
-    }
+    const std::int64_t mesh_every = scene_.output.mesh_every;
+    if (mesh_ && offset_ % mesh_every == 0 &&
+        (mesh_->samples().empty() || mesh_->samples().back().step < offset_))
+      sample_mesh(offset_);
+    std::int64_t s = offset_;
+    std::string reason = step_loop(s);
     if (g_stop) reason = "interrupted";
-    side.finalize();
+    side_.finalize();
     finish();
     checkpoint(s);
     spdlog::info("ran {} steps: {}", s, reason);
-    if (s > s0)
+    if (s > offset_)
       spdlog::info("time per step [ms]: membrane {:.3f}, exchange and fluid {:.3f}",
-                   1e3 * t_membrane / static_cast<double>(s - s0),
-                   1e3 * t_exchange / static_cast<double>(s - s0));
+                   1e3 * t_membrane_ / static_cast<double>(s - offset_),
+                   1e3 * t_exchange_ / static_cast<double>(s - offset_));
     summary();
     return 0;
   } catch (const coupler::CouplerError& e) {
@@ -262,11 +336,17 @@ int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a
     spdlog::error("{}", e.what());
     return 3;
   } catch (const std::exception& e) {
-    side.abort(e.what());
+    side_.abort(e.what());
     finish();
     spdlog::error("{}", e.what());
     return 1;
   }
+}
+
+}  // namespace
+
+int run_coupled(const Scene& scene, const MembraneScene& m, const CoupledArgs& a) {
+  return CoupledRun(scene, m, a).run();
 }
 
 }  // namespace dld::membrane
