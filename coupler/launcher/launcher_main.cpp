@@ -18,6 +18,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <thread>
 
 #include "coupler/launcher/process.hpp"
@@ -123,59 +124,230 @@ int check_membrane_part(const std::string& membrane_exe, const std::string& scen
   return 2;
 }
 
+struct Options {
+  std::string scene_path, membrane = "tracers";
+  int tracers = 16;
+  std::int64_t steps = 1000;
+  bool dry = false, until_certain = false, resume = false;
+  int pillars = 0;
+  std::int64_t checkpoint_every = 0;
+  bool with_cells() const { return membrane == "cells"; }
+};
+
+void add_options(CLI::App& app, Options& o) {
+  app.add_option("scene", o.scene_path, "scene file (TOML)")->required();
+  app.add_option("--membrane", o.membrane,
+                 "membrane program: cells (dld-membrane, the scene's [[cells.cell]]) or tracers "
+                 "(dld-tracers)")
+      ->check(CLI::IsMember({"cells", "tracers"}));
+  app.add_option("--tracers", o.tracers, "tracer particles per membrane process")
+      ->check(CLI::Range(1, 1000000));
+  app.add_option("--steps", o.steps, "steps to run")->check(dld::step_count());
+  app.add_option("--pillars", o.pillars,
+                 "cells: end the run once every cell has passed this many pillars")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--until-mode-certain", o.until_certain,
+               "cells: end the run once every cell's mode (zigzag/displacement) is certain");
+  app.add_option("--checkpoint-every", o.checkpoint_every,
+                 "cells: steps between checkpoints (one is always written when the run ends)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--resume", o.resume,
+               "cells: continue from the newest checkpoint step that every program has");
+  app.add_flag("--dry-run", o.dry, "validate the scene and print the commands, start nothing");
+}
+
+/// Where a run's files go and how its programs meet.
+struct RunPaths {
+  fs::path out;       ///< the run file
+  fs::path sock_dir;  ///< private folder of the ipc sockets and checks
+  std::string endpoint, stem;
+};
+
+RunPaths run_paths(const dld::Scene& scene) {
+  RunPaths p;
+  p.out = fs::path(scene.output.file);
+  if (fs::is_directory(p.out)) {  // the run file replaces what is there: never a directory
+    throw dld::InputError(
+        fmt::format("{}: [output] file '{}' is a directory; expected the path "
+                    "of the run file (HDF5)",
+                    scene.file, p.out.string()));
+  }
+  const fs::path run_dir = p.out.has_parent_path() ? p.out.parent_path() : fs::path(".");
+  fs::create_directories(run_dir);
+  // ipc paths are limited to ~100 bytes: keep the socket in a short private directory.
+  p.sock_dir = fs::temp_directory_path() / fmt::format("dld-run-{}", getpid());
+  fs::create_directories(p.sock_dir);
+  // coupling.transport: ipc (default) or tcp over loopback, one port per membrane process from a
+  // per-launcher base (tcp across machines: start dld-fluid --serve and dld-membrane --connect by
+  // hand, docs/protocol.md).
+  p.endpoint = scene.coupling.transport == "tcp"
+                   ? fmt::format("tcp://127.0.0.1:{}", 20000 + (getpid() % 2000) * 16)
+                   : "ipc://" + (p.sock_dir / "fluid").string();
+  p.stem = (run_dir / p.out.stem()).string();
+  return p;
+}
+
+/// Cells of the run: [cells] count = N (packed at random by dld-membrane) or one [[cells.cell]]
+/// per cell; tracers: --tracers per membrane process.
+int cell_count(const dld::Scene& scene, const Options& o) {
+  const int peers = scene.coupling.membrane_processes;
+  if (!o.with_cells()) return o.tracers * peers;
+  const auto* list = scene.document->root().at_path("cells.cell").as_array();
+  const auto count = scene.document->root().at_path("cells.count").value<std::int64_t>();
+  const int cells = count ? static_cast<int>(*count) : list ? static_cast<int>(list->size()) : 0;
+  if (cells < peers) {
+    throw dld::InputError(
+        fmt::format("{}: {} cells ([cells] count or [[cells.cell]]) for {} membrane processes",
+                    o.scene_path, cells, peers));
+  }
+  return cells;
+}
+
+// Checkpoints: <stem>-fluid.ckpt.h5 and <stem>-cells-k.ckpt.h5 (each keeps its previous one as
+// .prev); resuming takes the newest step every program has.
+std::string fluid_checkpoint(const std::string& stem) {
+  return stem + "-fluid.ckpt.h5";
+}
+std::string cell_checkpoint(const std::string& stem, int k) {
+  return fmt::format("{}-cells-{}.ckpt.h5", stem, k);
+}
+
+/// With --resume, the checkpoint each program starts from (fluid first); else empty strings.
+std::vector<std::string> resume_points(const Options& o, const std::string& stem, int peers) {
+  std::vector<std::string> from(static_cast<std::size_t>(peers) + 1);
+  if (!o.resume) return from;
+  if (!o.with_cells())
+    throw dld::InputError("--resume: only runs with --membrane cells checkpoint");
+  std::vector<std::pair<std::string, std::string>> sides{{fluid_checkpoint(stem), "/fluid"}};
+  for (int k = 0; k < peers; ++k) sides.emplace_back(cell_checkpoint(stem, k), "/membrane");
+  const auto chosen = common_checkpoint(sides);
+  for (std::size_t i = 0; i < chosen.size(); ++i) from[i] = chosen[i];
+  return from;
+}
+
+/// The command lines: dld-fluid first, then one per membrane process.
+std::vector<std::vector<std::string>> program_commands(const Options& o, const dld::Scene& scene,
+                                                       const RunPaths& p, int cells,
+                                                       const std::vector<std::string>& from) {
+  const int peers = scene.coupling.membrane_processes;
+  const bool with_cells = o.with_cells();
+  const std::string every = std::to_string(o.checkpoint_every);
+  std::vector<std::vector<std::string>> commands;
+  commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), o.scene_path,
+                      "--serve", p.endpoint, "--peers", std::to_string(peers), "--cells",
+                      std::to_string(cells), "-o", p.stem + "-fluid.h5"});
+  if (with_cells) {
+    commands[0].insert(commands[0].end(),
+                       {"--checkpoint", fluid_checkpoint(p.stem), "--checkpoint-every", every});
+    if (o.resume) commands[0].insert(commands[0].end(), {"--resume", from[0]});
+  }
+  const std::string program = with_cells
+                                  ? dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE)
+                                  : dld::coupler::find_program("dld-tracers", DLD_TRACERS_EXE);
+  for (int k = 0; k < peers; ++k) {
+    std::vector<std::string> c{program,     o.scene_path,
+                               "--connect", p.endpoint,
+                               "--peer",    std::to_string(k),
+                               "--peers",   std::to_string(peers),
+                               "--steps",   std::to_string(o.steps),
+                               "-o",        fmt::format("{}-{}-{}.h5", p.stem, o.membrane, k)};
+    if (!with_cells) c.insert(c.end(), {"--count", std::to_string(o.tracers)});
+    if (with_cells && o.pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(o.pillars)});
+    if (with_cells && o.until_certain) c.push_back("--until-mode-certain");
+    if (with_cells) {
+      c.insert(c.end(), {"--checkpoint", cell_checkpoint(p.stem, k), "--checkpoint-every", every});
+      if (o.resume) c.insert(c.end(), {"--resume", from[static_cast<std::size_t>(k) + 1]});
+    }
+    commands.push_back(c);
+  }
+  return commands;
+}
+
+/// Progress every 5 s: the fluid's last line and each membrane program's (pillars, ETA, modes).
+void report_progress(const std::vector<dld::coupler::Child>& children, double seconds) {
+  fmt::print("[{:.0f} s] fluid: {}\n", seconds, dld::coupler::last_line(children[0].log));
+  for (std::size_t k = 1; k < children.size(); ++k)
+    fmt::print("      {}: {}\n", children[k].name, dld::coupler::last_line(children[k].log));
+  std::fflush(stdout);
+}
+
+/// Watches the programs until all have ended; returns the first failure's exit code (0: none).
+/// Ctrl-C/SIGTERM goes to the fluid, which ends the run for all at one step; a failed child stops
+/// the others through the coupler within the scene's timeout, after which (plus a margin) they
+/// are killed.
+int supervise(std::vector<dld::coupler::Child>& children, const dld::Scene& scene) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  int failed = 0;
+  bool interrupted_sent = false;
+  auto last_report = start;
+  const auto margin =
+      std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000) + 5000);
+  std::optional<Clock::time_point> deadline;
+  while (true) {
+    bool any_running = false;
+    for (auto& c : children) {
+      if (dld::coupler::poll_child(c) && c.exit_code != 0) {
+        fmt::print(stderr, "dld-run: {} stopped with exit code {}: {}\n", c.name, c.exit_code,
+                   dld::coupler::error_line(c.log));
+        failed = failed ? failed : c.exit_code;
+        // A membrane program that fails before the fluid has its hellos would leave the fluid
+        // waiting its whole handshake timeout; there is nothing of the run to keep yet.
+        if (&c != &children[0] && children[0].running && !handshake_done(children[0].log))
+          dld::coupler::signal_child(children[0], SIGTERM);
+      }
+      any_running = any_running || c.running;
+    }
+    if (!any_running) return failed;
+    if (g_interrupted && !interrupted_sent) {
+      fmt::print(stderr, "dld-run: interrupted; asking the fluid to end the run after this step\n");
+      dld::coupler::signal_child(children[0], SIGINT);
+      interrupted_sent = true;
+    }
+    const auto now = Clock::now();
+    if (failed && now - start > std::chrono::seconds(1)) {
+      if (!deadline) deadline = now + margin;
+      if (now > *deadline)
+        for (auto& c : children) dld::coupler::signal_child(c, SIGKILL);
+    }
+    if (now - last_report > std::chrono::seconds(5)) {
+      report_progress(children, std::chrono::duration<double>(now - start).count());
+      last_report = now;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+}
+
+/// Starts dld-fluid and the membrane programs, each logging to <stem>-<name>.log.
+std::vector<dld::coupler::Child> start_programs(const std::vector<std::vector<std::string>>& cmds,
+                                                const Options& o, const std::string& stem) {
+  std::vector<dld::coupler::Child> children;
+  // Should dld-run die without stopping them (SIGKILL), the fluid gets what Ctrl-C sends it
+  // and ends the run for every program at one step, with checkpoints.
+  children.push_back(dld::coupler::start_child("dld-fluid", cmds[0], stem + "-fluid.log", SIGINT));
+  for (std::size_t k = 1; k < cmds.size(); ++k)
+    children.push_back(
+        dld::coupler::start_child(fmt::format("{}-{}", o.membrane, k - 1), cmds[k],
+                                  fmt::format("{}-{}-{}.log", stem, o.membrane, k - 1)));
+  return children;
+}
+
 }  // namespace
 
 static int run_main(int argc, char** argv) {
   CLI::App app{"dld-run: one coupled run of a scene (fluid + membrane programs over ipc or tcp)"};
-  std::string scene_path, membrane = "tracers";
-  int tracers = 16;
-  std::int64_t steps = 1000;
-  bool dry = false, until_certain = false;
-  int pillars = 0;
-  std::int64_t checkpoint_every = 0;
-  bool resume = false;
-  app.add_option("scene", scene_path, "scene file (TOML)")->required();
-  app.add_option("--membrane", membrane,
-                 "membrane program: cells (dld-membrane, the scene's [[cells.cell]]) or tracers "
-                 "(dld-tracers)")
-      ->check(CLI::IsMember({"cells", "tracers"}));
-  app.add_option("--tracers", tracers, "tracer particles per membrane process")
-      ->check(CLI::Range(1, 1000000));
-  app.add_option("--steps", steps, "steps to run")->check(dld::step_count());
-  app.add_option("--pillars", pillars,
-                 "cells: end the run once every cell has passed this many pillars")
-      ->check(CLI::NonNegativeNumber);
-  app.add_flag("--until-mode-certain", until_certain,
-               "cells: end the run once every cell's mode (zigzag/displacement) is certain");
-  app.add_option("--checkpoint-every", checkpoint_every,
-                 "cells: steps between checkpoints (one is always written when the run ends)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_flag("--resume", resume,
-               "cells: continue from the newest checkpoint step that every program has");
-  app.add_flag("--dry-run", dry, "validate the scene and print the commands, start nothing");
+  Options o;
+  add_options(app, o);
   CLI11_PARSE(app, argc, argv);
-
   try {
-    const dld::Scene scene = dld::load_scene(scene_path);
+    const dld::Scene scene = dld::load_scene(o.scene_path);
     fmt::print("{}\n", scene.describe());
     // The fluid and membrane programs take turns on the same cores: OpenMP threads that spin after
     // a parallel region (libgomp's default) steal the core the other program needs next. Sleeping
     // instead made 17 cells 1.2-1.5x and 3 cells 1.8x faster per coupled step (one cell 10-20 %
     // slower; docs/performance.md, "Coupled step"). A policy the user set is kept.
     setenv("OMP_WAIT_POLICY", "PASSIVE", /*overwrite=*/0);
-    const int peers = scene.coupling.membrane_processes;
-    const fs::path out = fs::path(scene.output.file);
-    if (fs::is_directory(out)) {  // the run file replaces what is there: never a directory
-      throw dld::InputError(
-          fmt::format("{}: [output] file '{}' is a directory; expected the path "
-                      "of the run file (HDF5)",
-                      scene.file, out.string()));
-    }
-    const fs::path run_dir = out.has_parent_path() ? out.parent_path() : fs::path(".");
-    fs::create_directories(run_dir);
-    // ipc paths are limited to ~100 bytes: keep the socket in a short private directory.
-    const fs::path sock_dir = fs::temp_directory_path() / fmt::format("dld-run-{}", getpid());
-    fs::create_directories(sock_dir);
+    const RunPaths paths = run_paths(scene);
     // Gone however this function is left (--dry-run, an error, the end of the run).
     const struct RemoveOnExit {
       fs::path path;
@@ -183,170 +355,27 @@ static int run_main(int argc, char** argv) {
         std::error_code ignored;
         fs::remove_all(path, ignored);
       }
-    } sock_dir_guard{sock_dir};
-    // coupling.transport: ipc (default) or tcp over loopback, one port per membrane process from a
-    // per-launcher base (tcp across machines: start dld-fluid --serve and dld-membrane --connect by
-    // hand, docs/protocol.md).
-    const std::string endpoint =
-        scene.coupling.transport == "tcp"
-            ? fmt::format("tcp://127.0.0.1:{}", 20000 + (getpid() % 2000) * 16)
-            : "ipc://" + (sock_dir / "fluid").string();
-    const std::string stem = (run_dir / out.stem()).string();
-
-    const bool with_cells = membrane == "cells";
-    int cells = tracers * peers;
-    if (with_cells) {
-      // [cells] count = N (packed at random by dld-membrane) or one [[cells.cell]] per cell.
-      const auto* list = scene.document->root().at_path("cells.cell").as_array();
-      const auto count = scene.document->root().at_path("cells.count").value<std::int64_t>();
-      cells = count ? static_cast<int>(*count) : list ? static_cast<int>(list->size()) : 0;
-      if (cells < peers) {
-        throw dld::InputError(
-            fmt::format("{}: {} cells ([cells] count or [[cells.cell]]) for {} "
-                        "membrane processes",
-                        scene_path, cells, peers));
-      }
+    } sock_dir_guard{paths.sock_dir};
+    const int cells = cell_count(scene, o);
+    const auto from = resume_points(o, paths.stem, scene.coupling.membrane_processes);
+    const auto commands = program_commands(o, scene, paths, cells, from);
+    for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
+    if (o.dry) {  // the membrane part too: dld-run itself reads only the fluid's tables
+      return o.with_cells() ? check_membrane_part(commands[1][0], o.scene_path, paths.sock_dir) : 0;
     }
-    // Checkpoints: <stem>-fluid.ckpt.h5 and <stem>-cells-k.ckpt.h5 (each keeps its previous one as
-    // .prev); resuming takes the newest step every program has.
-    const std::string fluid_ckpt = stem + "-fluid.ckpt.h5";
-    auto cell_ckpt = [&](int k) { return fmt::format("{}-cells-{}.ckpt.h5", stem, k); };
-    std::vector<std::string> resume_from(static_cast<std::size_t>(peers) + 1);
-    if (resume) {
-      if (!with_cells) {
-        throw dld::InputError("--resume: only runs with --membrane cells checkpoint");
-      }
-      std::vector<std::pair<std::string, std::string>> sides{{fluid_ckpt, "/fluid"}};
-      for (int k = 0; k < peers; ++k) {
-        sides.emplace_back(cell_ckpt(k), "/membrane");
-      }
-      const auto chosen = common_checkpoint(sides);
-      for (std::size_t i = 0; i < chosen.size(); ++i) {
-        resume_from[i] = chosen[i];
-      }
-    }
-    std::vector<std::vector<std::string>> commands;
-    commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), scene_path,
-                        "--serve", endpoint, "--peers", std::to_string(peers), "--cells",
-                        std::to_string(cells), "-o", stem + "-fluid.h5"});
-    if (with_cells) {
-      commands[0].insert(commands[0].end(), {"--checkpoint", fluid_ckpt, "--checkpoint-every",
-                                             std::to_string(checkpoint_every)});
-      if (resume) {
-        commands[0].insert(commands[0].end(), {"--resume", resume_from[0]});
-      }
-    }
-    for (int k = 0; k < peers; ++k) {
-      std::vector<std::string> c{with_cells
-                                     ? dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE)
-                                     : dld::coupler::find_program("dld-tracers", DLD_TRACERS_EXE),
-                                 scene_path,
-                                 "--connect",
-                                 endpoint,
-                                 "--peer",
-                                 std::to_string(k),
-                                 "--peers",
-                                 std::to_string(peers),
-                                 "--steps",
-                                 std::to_string(steps),
-                                 "-o",
-                                 fmt::format("{}-{}-{}.h5", stem, membrane, k)};
-      if (!with_cells) {
-        c.insert(c.end(), {"--count", std::to_string(tracers)});
-      }
-      if (with_cells && pillars > 0) {
-        c.insert(c.end(), {"--pillars", std::to_string(pillars)});
-      }
-      if (with_cells && until_certain) {
-        c.push_back("--until-mode-certain");
-      }
-      if (with_cells) {
-        c.insert(c.end(), {"--checkpoint", cell_ckpt(k), "--checkpoint-every",
-                           std::to_string(checkpoint_every)});
-        if (resume) {
-          c.insert(c.end(), {"--resume", resume_from[static_cast<std::size_t>(k) + 1]});
-        }
-      }
-      commands.push_back(c);
-    }
-    for (const auto& c : commands) {
-      fmt::print("  {}\n", fmt::join(c, " "));
-    }
-    if (dry) {  // the membrane part too: dld-run itself reads only the fluid's tables
-      return with_cells ? check_membrane_part(commands[1][0], scene_path, sock_dir) : 0;
-    }
-
     // The run file describes this run or does not exist: one left by an earlier run of the scene
     // would otherwise stand for this one if this one's parts cannot be merged.
-    const std::string merged = out.string();
+    const std::string merged = paths.out.string();
     std::error_code ignored;  // none there, or one this run cannot remove: merging will say so
     fs::remove(merged, ignored);
     signal(SIGINT, on_sigint);
     signal(SIGTERM, on_sigint);  // SLURM's way to end a job: the same clean stop as Ctrl-C
-    std::vector<dld::coupler::Child> children;
-    // Should dld-run die without stopping them (SIGKILL), the fluid gets what Ctrl-C sends it
-    // and ends the run for every program at one step, with checkpoints.
-    children.push_back(
-        dld::coupler::start_child("dld-fluid", commands[0], stem + "-fluid.log", SIGINT));
-    for (int k = 0; k < peers; ++k) {
-      children.push_back(dld::coupler::start_child(fmt::format("{}-{}", membrane, k),
-                                                   commands[k + 1],
-                                                   fmt::format("{}-{}-{}.log", stem, membrane, k)));
-    }
     const auto start = std::chrono::steady_clock::now();
-    int failed = 0;
-    bool interrupted_sent = false;
-    auto last_report = start;
-    while (true) {
-      bool any_running = false;
-      for (auto& c : children) {
-        if (dld::coupler::poll_child(c) && c.exit_code != 0) {
-          fmt::print(stderr, "dld-run: {} stopped with exit code {}: {}\n", c.name, c.exit_code,
-                     dld::coupler::error_line(c.log));
-          failed = failed ? failed : c.exit_code;
-          // A membrane program that fails before the fluid has its hellos would leave the fluid
-          // waiting its whole handshake timeout; there is nothing of the run to keep yet.
-          if (&c != &children[0] && children[0].running && !handshake_done(children[0].log))
-            dld::coupler::signal_child(children[0], SIGTERM);
-        }
-        any_running = any_running || c.running;
-      }
-      if (!any_running) {
-        break;
-      }
-      if (g_interrupted && !interrupted_sent) {
-        fmt::print(stderr,
-                   "dld-run: interrupted; asking the fluid to end the run after this step\n");
-        dld::coupler::signal_child(children[0], SIGINT);
-        interrupted_sent = true;
-      }
-      const auto now = std::chrono::steady_clock::now();
-      // A failed child stops the others through the coupler within the scene's timeout; after
-      // that (plus a margin) the launcher ends them itself.
-      if (failed && now - start > std::chrono::seconds(1)) {
-        static auto deadline = now + std::chrono::milliseconds(
-                                         static_cast<long>(scene.coupling.timeout_s * 1000) + 5000);
-        if (now > deadline) {
-          for (auto& c : children) {
-            dld::coupler::signal_child(c, SIGKILL);
-          }
-        }
-      }
-      if (now - last_report > std::chrono::seconds(5)) {
-        fmt::print("[{:.0f} s] fluid: {}\n", std::chrono::duration<double>(now - start).count(),
-                   dld::coupler::last_line(children[0].log));
-        // The membranes know the cells: pillars passed, ETA and modes.
-        for (std::size_t k = 1; k < children.size(); ++k) {
-          fmt::print("      {}: {}\n", children[k].name, dld::coupler::last_line(children[k].log));
-        }
-        std::fflush(stdout);
-        last_report = now;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
+    std::vector<dld::coupler::Child> children = start_programs(commands, o, paths.stem);
+    const int failed = supervise(children, scene);
     // After a failure too: what the programs wrote up to it is what there is to look at.
-    const bool have_run_file =
-        write_run_file(dld::coupler::run_parts(stem, membrane, peers), merged);
+    const bool have_run_file = write_run_file(
+        dld::coupler::run_parts(paths.stem, o.membrane, scene.coupling.membrane_processes), merged);
     if (failed) {
       if (have_run_file) {
         fmt::print(stderr,
@@ -357,7 +386,7 @@ static int run_main(int argc, char** argv) {
     }
     fmt::print("dld-run: done in {:.1f} s; run file {}, parts {}-*.h5, logs {}-*.log\n",
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-               have_run_file ? merged : "not written", stem, stem);
+               have_run_file ? merged : "not written", paths.stem, paths.stem);
     return g_interrupted ? 130 : 0;
   } catch (const dld::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
