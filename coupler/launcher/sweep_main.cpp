@@ -101,202 +101,234 @@ int default_jobs(const std::deque<const StudyRun*>& queue) {
   return std::clamp(cores / threads, 1, static_cast<int>(queue.size()));
 }
 
-}  // namespace
-
-static int run_main(int argc, char** argv) {
-  CLI::App app{"dld-sweep: the runs of a study file, K at a time, resumable"};
+struct Options {
   std::string study_path, resolution, slurm;
   int jobs = 0, index = -1;  // jobs 0: one run per core, see default_jobs
   std::vector<std::string> only;
   bool list = false, summary_only = false, dry = false;
-  app.add_option("study", study_path, "study file (TOML), e.g. configs/study/study.toml")
+};
+
+void add_options(CLI::App& app, Options& o) {
+  app.add_option("study", o.study_path, "study file (TOML), e.g. configs/study/study.toml")
       ->required();
-  app.add_option("--resolution", resolution,
+  app.add_option("--resolution", o.resolution,
                  "a [study.resolution.NAME] of the study file (coarser lattice and mesh)");
-  app.add_option("--jobs,-j", jobs,
+  app.add_option("--jobs,-j", o.jobs,
                  "runs at the same time (default: cores / the runs' [run] threads)")
       ->check(CLI::Range(1, 1024));
-  app.add_option("--index", index, "run only the run with this index (0-based; SLURM arrays)")
+  app.add_option("--index", o.index, "run only the run with this index (0-based; SLURM arrays)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--only", only, "run only the runs with these names (see --list)");
-  app.add_flag("--list", list, "list the runs and their state, run nothing");
-  app.add_flag("--summary", summary_only, "only collect the summary table and plots");
-  app.add_option("--slurm", slurm, "write a SLURM job-array script to this file, run nothing");
-  app.add_flag("--dry-run", dry, "write the run scenes and print the commands, start nothing");
-  CLI11_PARSE(app, argc, argv);
+  app.add_option("--only", o.only, "run only the runs with these names (see --list)");
+  app.add_flag("--list", o.list, "list the runs and their state, run nothing");
+  app.add_flag("--summary", o.summary_only, "only collect the summary table and plots");
+  app.add_option("--slurm", o.slurm, "write a SLURM job-array script to this file, run nothing");
+  app.add_flag("--dry-run", o.dry, "write the run scenes and print the commands, start nothing");
+}
 
-  try {
-    const auto study = dld::coupler::load_study(study_path);
-    if (resolution.empty()) {
-      resolution = study.default_resolution;
+/// The runs --index and --only choose (all by default); unknown ones are errors.
+std::vector<const StudyRun*> select_runs(const std::vector<StudyRun>& runs, const Options& o) {
+  if (o.index >= static_cast<int>(runs.size())) {
+    throw dld::InputError(fmt::format("--index {}: the study has {} runs (0..{})", o.index,
+                                      runs.size(), runs.size() - 1));
+  }
+  for (const auto& n : o.only) {
+    if (std::none_of(runs.begin(), runs.end(), [&](auto& r) { return r.name == n; })) {
+      throw dld::InputError(fmt::format("--only {}: no such run (see --list)", n));
     }
-    const auto runs = study.runs(resolution);
-    std::vector<const StudyRun*> chosen;
-    for (const auto& r : runs) {
-      if ((index < 0 || r.index == index) &&
-          (only.empty() || std::find(only.begin(), only.end(), r.name) != only.end())) {
-        chosen.push_back(&r);
-      }
+  }
+  std::vector<const StudyRun*> chosen;
+  for (const auto& r : runs) {
+    if ((o.index < 0 || r.index == o.index) &&
+        (o.only.empty() || std::find(o.only.begin(), o.only.end(), r.name) != o.only.end())) {
+      chosen.push_back(&r);
     }
-    if (index >= static_cast<int>(runs.size())) {
-      throw dld::InputError(fmt::format("--index {}: the study has {} runs (0..{})", index,
-                                        runs.size(), runs.size() - 1));
-    }
-    for (const auto& n : only) {
-      if (std::none_of(runs.begin(), runs.end(), [&](auto& r) { return r.name == n; })) {
-        throw dld::InputError(fmt::format("--only {}: no such run (see --list)", n));
-      }
-    }
+  }
+  return chosen;
+}
 
-    const std::string self = fs::read_symlink("/proc/self/exe").string();
-    if (!slurm.empty()) {
-      fs::create_directories(fs::absolute(study.output) / "slurm");
-      std::ofstream(slurm) << dld::coupler::slurm_script(
-          study, resolution, runs.size(), jobs > 0 ? jobs : static_cast<int>(runs.size()), self);
-      fs::permissions(slurm, fs::perms::owner_exec, fs::perm_options::add);
-      fmt::print("wrote {} ({} runs): submit with  sbatch {}\n", slurm, runs.size(), slurm);
-      return 0;
-    }
-    if (list || summary_only) {
-      if (list) {
-        for (const auto& r : runs) {
-          fmt::print("{:3d}  {:24s} {}\n", r.index, r.name,
-                     dld::coupler::state_name(dld::coupler::run_state(r)));
-        }
-      }
-      if (summary_only) {
-        dld::coupler::write_summary(study, runs, resolution);
-      }
-      return 0;
-    }
+/// The summary table of the whole study and its failure-probability plot.
+void write_study_summary(const dld::coupler::Study& study, const std::vector<StudyRun>& runs,
+                         const std::string& resolution) {
+  const std::string csv = dld::coupler::write_summary(study, runs, resolution);
+  const fs::path plot = fs::path(DLD_SOURCE_DIR) / "analysis" / "plot_study.py";
+  if (!fs::exists(plot) || !fs::exists("/usr/bin/python3")) return;
+  const std::string png = (fs::path(csv).parent_path() / "failure-probability.png").string();
+  std::vector<std::string> p{"/usr/bin/python3", plot.string(), csv, "-o", png};
+  auto c = dld::coupler::start_child("plot_study", p,
+                                     (fs::path(csv).parent_path() / "plots.log").string());
+  if (dld::coupler::wait_child(c) != 0) {
+    fmt::print(stderr, "dld-sweep: plot_study.py failed: see {}\n", c.log);
+  } else {
+    fmt::print("plot: {} (trajectories and outlets: each run's directory)\n", png);
+  }
+}
 
-    const std::string run_exe = dld::coupler::find_program("dld-run", DLD_RUN_EXE);
-    std::string analyze_exe;
+/// The runs still to do, K at a time: each is started (resumed when partial), watched, analysed
+/// when it ends, and reported every 10 s.
+class Sweep {
+ public:
+  Sweep(const dld::coupler::Study& study, std::deque<const StudyRun*> queue, int jobs, bool dry,
+        int done_before)
+      : study_(study), queue_(std::move(queue)), jobs_(jobs), dry_(dry), done_before_(done_before) {
+    run_exe_ = dld::coupler::find_program("dld-run", DLD_RUN_EXE);
     try {
-      analyze_exe = dld::coupler::find_program("dld-analyze", DLD_ANALYZE_EXE);
+      analyze_exe_ = dld::coupler::find_program("dld-analyze", DLD_ANALYZE_EXE);
     } catch (const dld::InputError&) {
       fmt::print(stderr, "dld-sweep: dld-analyze not built: runs are not analysed\n");
     }
+  }
+  /// Runs everything; the names of the runs that failed.
+  std::vector<std::string> run() {
+    t0_ = last_report_ = std::chrono::steady_clock::now();
+    while (!queue_.empty() || !running_.empty()) {
+      start_ready();
+      if (dry_) break;
+      if (g_interrupted)
+        for (auto& x : running_) dld::coupler::signal_child(x.child, SIGINT);
+      reap();
+      report();
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return failed_;
+  }
+
+ private:
+  void start_ready() {
+    while (!g_interrupted && !queue_.empty() && static_cast<int>(running_.size()) < jobs_) {
+      const StudyRun* r = queue_.front();
+      queue_.pop_front();
+      const fs::path scene = prepare(*r);
+      const bool resume = dld::coupler::run_state(*r) == RunState::kPartial;
+      const std::int64_t steps = study_.max_steps > 0 ? study_.max_steps : 1000000000000LL;
+      std::vector<std::string> cmd{run_exe_,
+                                   scene.string(),
+                                   "--membrane",
+                                   "cells",
+                                   "--pillars",
+                                   std::to_string(study_.pillars),
+                                   "--steps",
+                                   std::to_string(steps),
+                                   "--checkpoint-every",
+                                   std::to_string(study_.checkpoint_every)};
+      if (resume) cmd.push_back("--resume");
+      fmt::print("  start {} ({}): {}\n", r->name, resume ? "resuming" : "new",
+                 fmt::join(cmd, " "));
+      if (dry_) continue;
+      running_.push_back(
+          {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string(), SIGTERM),
+           std::chrono::steady_clock::now()});
+    }
+  }
+
+  void reap() {
+    for (auto it = running_.begin(); it != running_.end();) {
+      if (!dld::coupler::poll_child(it->child)) {
+        ++it;
+        continue;
+      }
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - it->start).count();
+      dld::coupler::record_attempt(*it->run, it->child.exit_code, wall);
+      if (it->child.exit_code == 0) {
+        const int a = analyze_exe_.empty() ? -1 : analyze(*it->run, study_, analyze_exe_);
+        if (a > 0) {
+          fmt::print(stderr, "  {}: dld-analyze failed ({}): see {}\n", it->run->name, a,
+                     (it->run->dir / "analysis.txt").string());
+        }
+        dld::coupler::mark_done(*it->run, dld::coupler::run_wall_s(*it->run));
+        ++finished_;
+        fmt::print("  done {} in {:.0f} s\n", it->run->name, wall);
+      } else if (!g_interrupted) {
+        failed_.push_back(it->run->name);
+        fmt::print(stderr, "  {} failed (exit {}): {}\n", it->run->name, it->child.exit_code,
+                   dld::coupler::error_line(it->child.log));
+      }
+      it = running_.erase(it);
+    }
+  }
+
+  void report() {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_report_ <= std::chrono::seconds(10) || running_.empty()) return;
+    fmt::print("[{:.0f} s] sweep: {} done, {} running, {} waiting, {} failed\n",
+               std::chrono::duration<double>(now - t0_).count(), done_before_ + finished_,
+               running_.size(), queue_.size(), failed_.size());
+    for (const auto& x : running_) {
+      fmt::print("  {}: {}\n", x.run->name,
+                 dld::coupler::last_line((x.run->dir / "run-cells-0.log").string()));
+    }
+    std::fflush(stdout);
+    last_report_ = now;
+  }
+
+  const dld::coupler::Study& study_;
+  std::deque<const StudyRun*> queue_;
+  const int jobs_;
+  const bool dry_;
+  const int done_before_;
+  std::string run_exe_, analyze_exe_;
+  std::vector<Running> running_;
+  std::vector<std::string> failed_;
+  int finished_ = 0;
+  std::chrono::steady_clock::time_point t0_, last_report_;
+};
+
+}  // namespace
+
+static int run_main(int argc, char** argv) {
+  CLI::App app{"dld-sweep: the runs of a study file, K at a time, resumable"};
+  Options o;
+  add_options(app, o);
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const auto study = dld::coupler::load_study(o.study_path);
+    const std::string resolution = o.resolution.empty() ? study.default_resolution : o.resolution;
+    const auto runs = study.runs(resolution);
+    const std::vector<const StudyRun*> chosen = select_runs(runs, o);
+    if (!o.slurm.empty()) {
+      const std::string self = fs::read_symlink("/proc/self/exe").string();
+      fs::create_directories(fs::absolute(study.output) / "slurm");
+      std::ofstream(o.slurm) << dld::coupler::slurm_script(
+          study, resolution, runs.size(), o.jobs > 0 ? o.jobs : static_cast<int>(runs.size()),
+          self);
+      fs::permissions(o.slurm, fs::perms::owner_exec, fs::perm_options::add);
+      fmt::print("wrote {} ({} runs): submit with  sbatch {}\n", o.slurm, runs.size(), o.slurm);
+      return 0;
+    }
+    if (o.list) {
+      for (const auto& r : runs) {
+        fmt::print("{:3d}  {:24s} {}\n", r.index, r.name,
+                   dld::coupler::state_name(dld::coupler::run_state(r)));
+      }
+    }
+    if (o.summary_only) dld::coupler::write_summary(study, runs, resolution);
+    if (o.list || o.summary_only) return 0;
+
     std::deque<const StudyRun*> queue;
     int done_before = 0;
     for (const StudyRun* r : chosen) {
-      const RunState s = dld::coupler::run_state(*r);
-      if (s == RunState::kDone) {
+      if (dld::coupler::run_state(*r) == RunState::kDone) {
         ++done_before;
-        continue;
+      } else {
+        queue.push_back(r);
       }
-      queue.push_back(r);
     }
-    if (jobs == 0) jobs = default_jobs(queue);
+    const int jobs = o.jobs == 0 ? default_jobs(queue) : o.jobs;
     fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time\n",
                study.name, resolution.empty() ? "default resolution" : resolution, chosen.size(),
                done_before, queue.size(), jobs);
     signal(SIGINT, on_sigint);
     signal(SIGTERM, on_sigint);  // SLURM's time limit: checkpoint like Ctrl-C
-    std::vector<Running> running;
-    std::vector<std::string> failed;
-    int finished = 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    auto last_report = t0;
-    while (!queue.empty() || !running.empty()) {
-      while (!g_interrupted && !queue.empty() && static_cast<int>(running.size()) < jobs) {
-        const StudyRun* r = queue.front();
-        queue.pop_front();
-        const fs::path scene = prepare(*r);
-        const bool resume = dld::coupler::run_state(*r) == RunState::kPartial;
-        const std::int64_t steps = study.max_steps > 0 ? study.max_steps : 1000000000000LL;
-        std::vector<std::string> cmd{run_exe,
-                                     scene.string(),
-                                     "--membrane",
-                                     "cells",
-                                     "--pillars",
-                                     std::to_string(study.pillars),
-                                     "--steps",
-                                     std::to_string(steps),
-                                     "--checkpoint-every",
-                                     std::to_string(study.checkpoint_every)};
-        if (resume) {
-          cmd.push_back("--resume");
-        }
-        fmt::print("  start {} ({}): {}\n", r->name, resume ? "resuming" : "new",
-                   fmt::join(cmd, " "));
-        if (dry) {
-          continue;
-        }
-        running.push_back(
-            {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string(), SIGTERM),
-             std::chrono::steady_clock::now()});
-      }
-      if (dry) {
-        break;
-      }
-      if (g_interrupted) {
-        for (auto& x : running) {
-          dld::coupler::signal_child(x.child, SIGINT);
-        }
-      }
-      for (auto it = running.begin(); it != running.end();) {
-        if (!dld::coupler::poll_child(it->child)) {
-          ++it;
-          continue;
-        }
-        const double wall =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - it->start).count();
-        dld::coupler::record_attempt(*it->run, it->child.exit_code, wall);
-        if (it->child.exit_code == 0) {
-          const int a = analyze_exe.empty() ? -1 : analyze(*it->run, study, analyze_exe);
-          if (a > 0) {
-            fmt::print(stderr, "  {}: dld-analyze failed ({}): see {}\n", it->run->name, a,
-                       (it->run->dir / "analysis.txt").string());
-          }
-          dld::coupler::mark_done(*it->run, dld::coupler::run_wall_s(*it->run));
-          ++finished;
-          fmt::print("  done {} in {:.0f} s\n", it->run->name, wall);
-        } else if (!g_interrupted) {
-          failed.push_back(it->run->name);
-          fmt::print(stderr, "  {} failed (exit {}): {}\n", it->run->name, it->child.exit_code,
-                     dld::coupler::last_line(it->child.log));
-        }
-        it = running.erase(it);
-      }
-      const auto now = std::chrono::steady_clock::now();
-      if (now - last_report > std::chrono::seconds(10) && !running.empty()) {
-        fmt::print("[{:.0f} s] sweep: {} done, {} running, {} waiting, {} failed\n",
-                   std::chrono::duration<double>(now - t0).count(), done_before + finished,
-                   running.size(), queue.size(), failed.size());
-        for (const auto& x : running) {
-          fmt::print("  {}: {}\n", x.run->name,
-                     dld::coupler::last_line((x.run->dir / "run-cells-0.log").string()));
-        }
-        std::fflush(stdout);
-        last_report = now;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    }
-    if (dry) {
-      return 0;
-    }
+    const std::vector<std::string> failed =
+        Sweep(study, std::move(queue), jobs, o.dry, done_before).run();
+    if (o.dry) return 0;
     if (g_interrupted) {
       fmt::print(stderr,
                  "dld-sweep: interrupted; the stopped runs resume from their checkpoints when "
                  "the sweep is started again\n");
       return 130;
     }
-    if (index < 0) {
-      const std::string csv = dld::coupler::write_summary(study, runs, resolution);
-      const fs::path plot = fs::path(DLD_SOURCE_DIR) / "analysis" / "plot_study.py";
-      if (fs::exists(plot) && fs::exists("/usr/bin/python3")) {
-        const std::string png = (fs::path(csv).parent_path() / "failure-probability.png").string();
-        std::vector<std::string> p{"/usr/bin/python3", plot.string(), csv, "-o", png};
-        auto c = dld::coupler::start_child("plot_study", p,
-                                           (fs::path(csv).parent_path() / "plots.log").string());
-        if (dld::coupler::wait_child(c) != 0) {
-          fmt::print(stderr, "dld-sweep: plot_study.py failed: see {}\n", c.log);
-        } else {
-          fmt::print("plot: {} (trajectories and outlets: each run's directory)\n", png);
-        }
-      }
-    }
+    if (o.index < 0) write_study_summary(study, runs, resolution);
     if (!failed.empty()) {
       fmt::print(stderr, "dld-sweep: {} runs failed: {}\n", failed.size(), fmt::join(failed, " "));
       return 1;
