@@ -340,7 +340,8 @@ void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
   if (header.step != step_) {
     throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
   }
-  const std::byte* data = read_nodes(frame, header, peer.nodes, shared ? 0 : 2, link);
+  const std::byte* data =
+      read_nodes(frame, header, peer.nodes, shared ? kSharedFrameArrays : kStepFrameArrays, link);
   if (shared) {
     peer.segment.require_size(kSelf, peer.label);
     data = peer.segment.data();
@@ -384,7 +385,7 @@ void FluidSide::send_velocities(std::span<const double> velocities) {
       zmq::message_t frame;
       if (peer.segment.mapped()) {
         peer.segment.require_size(kSelf, peer.label);
-        std::byte* to = peer.segment.data() + 2 * mine.size_bytes();
+        double* to = peer.segment.array(SegmentArray::kVelocities, peer.nodes);
         if (static_cast<const void*>(to) != static_cast<const void*>(mine.data())) {
           std::memcpy(to, mine.data(), mine.size_bytes());  // not written through the buffer
         }
@@ -405,7 +406,7 @@ void FluidSide::send_velocities(std::span<const double> velocities) {
 std::span<double> FluidSide::velocities_buffer() {
   check_call(kSelf, "velocities_buffer()", state_, {State::have_step});
   if (peers_.size() == 1 && peers_[0].segment.mapped()) {
-    return {reinterpret_cast<double*>(peers_[0].segment.data()) + 6 * peers_[0].nodes,
+    return {peers_[0].segment.array(SegmentArray::kVelocities, peers_[0].nodes),
             3 * peers_[0].nodes};
   }
   velocities_.resize(positions_.size());

@@ -78,6 +78,13 @@ zmq::message_t encode_error(std::uint64_t step, std::string_view message);
 /// "fluid: malformed frame from membrane 'm-0' at step 4: field 'magic': expected ..., got ...".
 FrameHeader read_header(const zmq::message_t& frame, const Link& link, std::uint64_t at_step);
 
+/// Node arrays (3 N doubles each) a frame carries after its node count: a step frame positions
+/// and forces, a velocities frame the velocities, a shared-memory frame none (they are in the
+/// segment, coupler/shared_segment.hpp).
+inline constexpr int kStepFrameArrays = 2;
+inline constexpr int kVelocitiesFrameArrays = 1;
+inline constexpr int kSharedFrameArrays = 0;
+
 /// Checks a node payload (step or velocities): its node count equals `nodes` and its length
 /// matches; returns the bytes of the `arrays` arrays of 3 N doubles that follow the count
 /// (`arrays` = 0 for the shared-memory frames, which carry the count only).

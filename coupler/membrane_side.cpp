@@ -25,7 +25,7 @@ double seconds(std::chrono::milliseconds t) {
 }
 
 // Data written through positions_buffer()/forces_buffer() is already in place.
-void copy_unless_same(std::byte* to, const double* from, std::size_t bytes) {
+void copy_unless_same(double* to, const double* from, std::size_t bytes) {
   if (static_cast<const void*>(to) != static_cast<const void*>(from)) {
     std::memcpy(to, from, bytes);
   }
@@ -196,8 +196,8 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
     const std::size_t bytes = 3 * sizeof(double) * nodes_;
     zmq::message_t frame;
     if (shared_) {
-      copy_unless_same(segment_.data(), positions.data(), bytes);
-      copy_unless_same(segment_.data() + bytes, forces.data(), bytes);
+      copy_unless_same(segment_.array(SegmentArray::kPositions, nodes_), positions.data(), bytes);
+      copy_unless_same(segment_.array(SegmentArray::kForces, nodes_), forces.data(), bytes);
       frame = encode_count(FrameType::step_shared, step_, nodes_);
     } else {
       frame = encode_step(step_, positions, forces, &pool_);
@@ -236,9 +236,10 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
     if (header.step != step_) {
       throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
     }
-    const std::byte* data = read_nodes(reply_, header, nodes_, shared_ ? 0 : 1, link);
+    const std::byte* data = read_nodes(reply_, header, nodes_,
+                                       shared_ ? kSharedFrameArrays : kVelocitiesFrameArrays, link);
     if (shared_) {
-      data = segment_.data() + 2 * bytes;
+      data = reinterpret_cast<const std::byte*>(segment_.array(SegmentArray::kVelocities, nodes_));
     }
     require_finite(data, nodes_, "velocities", link, step_);
     ++step_;
@@ -254,7 +255,7 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
 std::span<double> MembraneSide::positions_buffer() {
   check_call(self_, "positions_buffer()", state_, {State::running});
   if (shared_) {
-    return {reinterpret_cast<double*>(segment_.data()), 3 * nodes_};
+    return {segment_.array(SegmentArray::kPositions, nodes_), 3 * nodes_};
   }
   staging_.resize(6 * nodes_);
   return std::span<double>(staging_).first(3 * nodes_);
@@ -263,7 +264,7 @@ std::span<double> MembraneSide::positions_buffer() {
 std::span<double> MembraneSide::forces_buffer() {
   check_call(self_, "forces_buffer()", state_, {State::running});
   if (shared_) {
-    return {reinterpret_cast<double*>(segment_.data()) + 3 * nodes_, 3 * nodes_};
+    return {segment_.array(SegmentArray::kForces, nodes_), 3 * nodes_};
   }
   staging_.resize(6 * nodes_);
   return std::span<double>(staging_).last(3 * nodes_);

@@ -8,9 +8,18 @@
 
 namespace dld::coupler {
 
-/// Bytes of a peer's segment: positions, forces and velocities, 3 doubles per node each.
+/// A peer's segment holds three node arrays of 3 doubles per node, in this order: positions and
+/// forces written by the membrane, velocities written by the fluid.
+enum class SegmentArray : std::size_t { kPositions = 0, kForces = 1, kVelocities = 2 };
+inline constexpr std::size_t kSegmentArrays = 3;
+
+/// Where an array starts, in doubles from the segment's start, for a peer of `nodes` nodes.
+constexpr std::size_t segment_offset(SegmentArray a, std::size_t nodes) {
+  return static_cast<std::size_t>(a) * 3 * nodes;
+}
+/// Bytes of a peer's segment.
 constexpr std::size_t segment_bytes(std::size_t nodes) {
-  return 9 * sizeof(double) * nodes;
+  return kSegmentArrays * 3 * sizeof(double) * nodes;
 }
 
 class SharedSegment {
@@ -36,6 +45,10 @@ class SharedSegment {
 
   bool mapped() const { return data_ != nullptr; }
   std::byte* data() const { return data_; }
+  /// One of the node arrays of a peer of `nodes` nodes (see SegmentArray).
+  double* array(SegmentArray a, std::size_t nodes) const {
+    return reinterpret_cast<double*>(data_) + segment_offset(a, nodes);
+  }
   std::size_t size() const { return size_; }
   const std::string& name() const { return name_; }
 
