@@ -61,15 +61,8 @@ double reference_shear_modulus_lu(const Scene& scene, const TomlSection& m, doub
   return ref.modulus_lu(shear_modulus(scene, m, radius_um, p_ref));
 }
 
-}  // namespace
-
-MembraneScene read_membrane_scene(const Scene& scene) {
-  MembraneScene out;
-  const TomlSection root = TomlSection::root(scene.document);
-  const TomlSection m = root.section("membrane");
-  const LatticeUnits units = scene.units();
-  const double dx = scene.lattice.dx_um;
-
+/// [membrane] radius_um, shape_coefficients, mesh_faces, mesh_cache (the Evans-Fung shape).
+void read_shape(const TomlSection& m, MembraneScene& out) {
   out.shape_um.radius = m.in_range("radius_um", 0.5, 20.0, 3.9);
   if (m.has("shape_coefficients")) {
     const auto c = m.numbers("shape_coefficients");
@@ -85,14 +78,13 @@ MembraneScene read_membrane_scene(const Scene& scene) {
     m.fail("mesh_faces", fmt::format("expected 100..50000, got {}", faces));
   out.mesh_faces = static_cast<int>(faces);
   out.mesh_cache = m.string("mesh_cache", default_mesh_cache_dir());
+}
 
-  out.kappa_s_N_per_m =
-      shear_modulus(scene, m, out.shape_um.radius, scene.drive.pressure_gradient_Pa_per_m);
-  out.kappa_s_lu = units.modulus_lu(out.kappa_s_N_per_m);
-  out.radius_lu = out.shape_um.radius / dx;
-
+/// The reference mesh in lattice units, centred: a user's OFF file (lengths in um; it must pass
+/// the same checks) or the Evans-Fung mesh.
+void make_reference_mesh(const Scene& scene, const TomlSection& m, MembraneScene& out) {
+  const double dx = scene.lattice.dx_um;
   if (m.has("mesh_file")) {
-    // A user mesh (OFF, lengths in um) replaces the Evans-Fung one; it must pass the same checks.
     if (m.has("mesh_faces") || m.has("shape_coefficients"))
       m.fail("mesh_file", "give either mesh_file or mesh_faces/shape_coefficients, not both");
     std::filesystem::path file(m.string("mesh_file"));
@@ -107,7 +99,11 @@ MembraneScene read_membrane_scene(const Scene& scene) {
     out.reference_lu = evans_fung_mesh(shape_lu, out.mesh_faces, out.mesh_cache);
   }
   out.reference_lu.nodes.colwise() -= centroid(out.reference_lu.nodes);
+}
 
+/// [membrane] models and their tables.
+void read_models(const Scene& scene, const TomlSection& m, MembraneScene& out) {
+  const LatticeUnits units = scene.units();
   const ModelContext ctx{
       out.reference_lu,     out.kappa_s_lu,
       out.radius_lu,        reference_shear_modulus_lu(scene, m, out.shape_um.radius),
@@ -121,17 +117,23 @@ MembraneScene read_membrane_scene(const Scene& scene) {
     models.push_back(make_model(names[i], m, "models", m.optional_section(names[i]), ctx));
   }
   out.mechanics = MembraneMechanics(names, std::move(models));
+}
 
+/// [membrane.contact]: range [um -> lattice], strength relative to kappa_s range^2.
+void read_contact(const Scene& scene, const TomlSection& m, MembraneScene& out) {
   if (auto c = m.optional_section("contact")) {
     ContactParams p;
-    p.range = c->positive("range_um") / dx;
+    p.range = c->positive("range_um") / scene.lattice.dx_um;
     p.strength = c->in_range("strength_rel", 0.0, 1e6) * out.kappa_s_lu * p.range * p.range;
     p.walls = c->boolean("walls", true);
     p.pillar = c->boolean("pillar", true);
     p.cells = c->boolean("cells", true);
     out.contact = p;
   }
+}
 
+/// [membrane.stretch] and [membrane.relax]: the standalone tasks (one at most).
+void read_tasks(const TomlSection& m, MembraneScene& out) {
   if (auto s = m.optional_section("stretch")) {
     StretchTask t;
     t.forces_pN = s->numbers("forces_pN");
@@ -163,48 +165,67 @@ MembraneScene read_membrane_scene(const Scene& scene) {
     m.fail(
         "relax",
         "a scene runs one standalone task: give [membrane.stretch] or [membrane.relax], not both");
+}
 
-  if (auto cells = root.optional_section("cells")) {
-    const bool listed = !cells->sections("cell").empty();
-    if (cells->has("count")) {
-      if (listed)
-        cells->fail("count",
-                    "give either count (cells packed at random) or [[cells.cell]], not both");
-      PackRequest p;
-      const auto count = cells->integer("count");
-      if (count < 1 || count > 200)
-        cells->fail("count", fmt::format("expected 1..200, got {}", count));
-      p.count = static_cast<int>(count);
-      const auto seed = cells->integer("seed", 1);
-      if (seed < 0) cells->fail("seed", fmt::format("expected an integer >= 0, got {}", seed));
-      p.seed = static_cast<std::uint64_t>(seed);
-      p.cache = cells->string("packing_cache", default_packing_cache_dir());
-      p.clearance_lu = out.contact ? out.contact->range : 1.0;
-      out.pack = p;
-    } else {
-      for (const char* key : {"seed", "packing_cache"})
-        if (cells->has(key)) cells->fail(key, "only used with count (cells packed at random)");
-    }
-    if (cells->has("expected_mode")) {
-      // Spelled as to_string writes the modes: dld-analyze reads them back from the run file.
-      const std::string zigzag = to_string(TransportMode::kZigzag);
-      const std::string v =
-          cells->choice("expected_mode", {zigzag, to_string(TransportMode::kDisplacement)});
-      out.expected_mode = v == zigzag ? TransportMode::kZigzag : TransportMode::kDisplacement;
-    }
-    for (const TomlSection& c : cells->sections("cell")) {
-      const auto p = c.numbers("centre_um");
-      if (p.size() != 3) c.fail("centre_um", "expected [x, y, z] in um");
-      if (!std::isfinite(p[0] + p[1] + p[2])) c.fail("centre_um", "expected finite numbers (um)");
-      out.centres_lu.emplace_back(p[0] / dx, p[1] / dx, p[2] / dx);
-      const double angle = c.number("angle_deg", 0.0);
-      if (!std::isfinite(angle)) c.fail("angle_deg", "expected a finite angle in degrees");
-      out.angles_rad.push_back(angle * M_PI / 180.0);
-      const DldCell box = scene.cell_um;
-      if (p[2] < 0.0 || p[2] > box.depth) c.fail("centre_um", "z must lie between the walls");
-      if (box.inside_pillar(p[0], p[1])) c.fail("centre_um", "the centre lies inside the pillar");
-    }
+/// [cells] count (packed at random) or [[cells.cell]] (listed), and expected_mode.
+void read_cells(const Scene& scene, const TomlSection& cells, MembraneScene& out) {
+  const bool listed = !cells.sections("cell").empty();
+  if (cells.has("count")) {
+    if (listed)
+      cells.fail("count", "give either count (cells packed at random) or [[cells.cell]], not both");
+    PackRequest p;
+    const auto count = cells.integer("count");
+    if (count < 1 || count > 200)
+      cells.fail("count", fmt::format("expected 1..200, got {}", count));
+    p.count = static_cast<int>(count);
+    const auto seed = cells.integer("seed", 1);
+    if (seed < 0) cells.fail("seed", fmt::format("expected an integer >= 0, got {}", seed));
+    p.seed = static_cast<std::uint64_t>(seed);
+    p.cache = cells.string("packing_cache", default_packing_cache_dir());
+    p.clearance_lu = out.contact ? out.contact->range : 1.0;
+    out.pack = p;
+  } else {
+    for (const char* key : {"seed", "packing_cache"})
+      if (cells.has(key)) cells.fail(key, "only used with count (cells packed at random)");
   }
+  if (cells.has("expected_mode")) {
+    // Spelled as to_string writes the modes: dld-analyze reads them back from the run file.
+    const std::string zigzag = to_string(TransportMode::kZigzag);
+    const std::string v =
+        cells.choice("expected_mode", {zigzag, to_string(TransportMode::kDisplacement)});
+    out.expected_mode = v == zigzag ? TransportMode::kZigzag : TransportMode::kDisplacement;
+  }
+  const double dx = scene.lattice.dx_um;
+  for (const TomlSection& c : cells.sections("cell")) {
+    const auto p = c.numbers("centre_um");
+    if (p.size() != 3) c.fail("centre_um", "expected [x, y, z] in um");
+    if (!std::isfinite(p[0] + p[1] + p[2])) c.fail("centre_um", "expected finite numbers (um)");
+    out.centres_lu.emplace_back(p[0] / dx, p[1] / dx, p[2] / dx);
+    const double angle = c.number("angle_deg", 0.0);
+    if (!std::isfinite(angle)) c.fail("angle_deg", "expected a finite angle in degrees");
+    out.angles_rad.push_back(angle * M_PI / 180.0);
+    const DldCell box = scene.cell_um;
+    if (p[2] < 0.0 || p[2] > box.depth) c.fail("centre_um", "z must lie between the walls");
+    if (box.inside_pillar(p[0], p[1])) c.fail("centre_um", "the centre lies inside the pillar");
+  }
+}
+
+}  // namespace
+
+MembraneScene read_membrane_scene(const Scene& scene) {
+  MembraneScene out;
+  const TomlSection root = TomlSection::root(scene.document);
+  const TomlSection m = root.section("membrane");
+  read_shape(m, out);
+  out.kappa_s_N_per_m =
+      shear_modulus(scene, m, out.shape_um.radius, scene.drive.pressure_gradient_Pa_per_m);
+  out.kappa_s_lu = scene.units().modulus_lu(out.kappa_s_N_per_m);
+  out.radius_lu = out.shape_um.radius / scene.lattice.dx_um;
+  make_reference_mesh(scene, m, out);
+  read_models(scene, m, out);
+  read_contact(scene, m, out);
+  read_tasks(m, out);
+  if (auto cells = root.optional_section("cells")) read_cells(scene, *cells, out);
   return out;
 }
 
