@@ -33,20 +33,7 @@ std::string fnv1a_hex(std::string_view text) {
   return fmt::format("{:016x}", h);
 }
 
-Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::string_view text) {
-  Scene s;
-  s.hash = fnv1a_hex(text);
-  s.file = doc->file();
-  s.document = doc;
-  TomlSection root = TomlSection::root(doc);
-
-  TomlSection meta = root.section("scene");
-  s.name = meta.string("name");
-  if (s.name.empty() || s.name.find('/') != std::string::npos)
-    meta.fail("name", "expected a non-empty name without '/'");
-  s.description = meta.string("description", "");
-
-  TomlSection g = root.section("geometry");
+void read_geometry(const TomlSection& g, Scene& s) {
   s.cell_um.radius = g.positive("pillar_radius_um");
   s.cell_um.lambda = g.positive("pillar_spacing_um");
   s.cell_um.depth = g.positive("depth_um");
@@ -58,8 +45,9 @@ Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::st
   if (s.cell_um.shift < 0.0 || s.cell_um.shift >= s.cell_um.lambda)
     g.fail("row_shift_um", fmt::format("expected 0 <= d < lambda = {} um, got {}", s.cell_um.lambda,
                                        s.cell_um.shift));
+}
 
-  TomlSection l = root.section("lattice");
+void read_lattice(const TomlSection& l, Scene& s) {
   s.lattice.dx_um = l.positive("dx_um");
   s.lattice.tau = l.number("tau", 1.0);
   if (!(s.lattice.tau > 0.5))
@@ -77,25 +65,26 @@ Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::st
   if (gap_nodes < 2.0)
     l.fail("dx_um", fmt::format("the gap G = {} um spans only {:.2g} nodes; need at least 2",
                                 s.cell_um.gap(), gap_nodes));
+}
 
-  if (auto f = root.optional_section("fluid")) {
-    s.fluid.density_kg_m3 = f->positive("density_kg_m3", s.fluid.density_kg_m3);
-    s.fluid.viscosity_Pa_s = f->positive("viscosity_Pa_s", s.fluid.viscosity_Pa_s);
-    s.fluid.viscosity_ratio = f->positive("viscosity_ratio", 1.0);
-    const double tau_in = s.tau_inner();
-    if (tau_in > 20.0)
-      f->fail("viscosity_ratio",
-              fmt::format("inner relaxation time {} is too large to be accurate", tau_in));
-  }
+void read_fluid(const TomlSection& f, Scene& s) {
+  s.fluid.density_kg_m3 = f.positive("density_kg_m3", s.fluid.density_kg_m3);
+  s.fluid.viscosity_Pa_s = f.positive("viscosity_Pa_s", s.fluid.viscosity_Pa_s);
+  s.fluid.viscosity_ratio = f.positive("viscosity_ratio", 1.0);
+  const double tau_in = s.tau_inner();
+  if (tau_in > 20.0)
+    f.fail("viscosity_ratio",
+           fmt::format("inner relaxation time {} is too large to be accurate", tau_in));
+}
 
-  TomlSection d = root.section("drive");
-  bool has_re = d.has("reynolds");
-  bool has_p = d.has("pressure_gradient_Pa_per_m");
+/// [drive]: exactly one of reynolds and pressure_gradient_Pa_per_m; then the Mach check of the
+/// plane-Poiseuille speed estimate (it needs the lattice and the fluid).
+void read_drive(const TomlSection& d, Scene& s) {
+  const bool has_re = d.has("reynolds");
+  const bool has_p = d.has("pressure_gradient_Pa_per_m");
   if (has_re == has_p)
     d.fail(has_re ? "reynolds" : "pressure_gradient_Pa_per_m",
            "give exactly one of drive.reynolds and drive.pressure_gradient_Pa_per_m");
-  const double mu = s.fluid.viscosity_Pa_s;
-  const double h = s.cell_um.depth * 1e-6;
   if (has_re) {
     double re = d.positive("reynolds");
     if (re > 10.0)
@@ -108,53 +97,83 @@ Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::st
       d.fail("pressure_gradient_Pa_per_m", "expected >= 0 (flow along +x)");
   }
   s.drive.lateral_control = d.boolean("lateral_control", true);
+}
 
-  if (auto r = root.optional_section("run")) {
-    s.run.max_steps = r->integer("max_steps", s.run.max_steps);
-    if (s.run.max_steps < 1) r->fail("max_steps", "expected a positive integer");
-    s.run.steady_tolerance = r->in_range("steady_tolerance", 0.0, 1.0, 0.0);
-    s.run.log_every = r->integer("log_every", s.run.log_every);
-    if (s.run.log_every < 1) r->fail("log_every", "expected a positive integer");
-    std::int64_t th = r->integer("threads", 0);
-    if (th < 0 || th > 1024) r->fail("threads", "expected 0 (all cores) or a thread count");
-    s.run.threads = static_cast<int>(th);
-  }
-  if (auto o = root.optional_section("output")) {
-    s.output.file = o->string("file", "");
-    s.output.snapshot_every = o->integer("snapshot_every", 0);
-    if (s.output.snapshot_every < 0) o->fail("snapshot_every", "expected >= 0");
-    s.output.fields = o->boolean("fields", true);
-    s.output.mesh_every = o->integer("mesh_every", 0);
-    if (s.output.mesh_every < 0)
-      o->fail("mesh_every", "expected steps between mesh samples >= 0 (0: no meshes)");
-  }
-  if (s.output.file.empty()) s.output.file = "runs/" + s.name + ".h5";
-  if (auto c = root.optional_section("coupling")) {
-    s.coupling.ib_kernel = c->choice("ib_kernel", {"peskin2", "peskin3", "peskin4"}, "peskin4");
-    const std::int64_t k = c->integer("membrane_processes", 1);
-    if (k < 1 || k > 64) c->fail("membrane_processes", "expected 1 to 64 membrane processes");
-    s.coupling.membrane_processes = static_cast<int>(k);
-    s.coupling.transport = c->choice("transport", {"ipc", "tcp"}, "ipc");
-    s.coupling.timeout_s = c->in_range("timeout_s", 0.1, 86400.0, 30.0);
-    auto every = [&](const char* key, const char* what) {
-      const std::int64_t n = c->integer(key, 1);
-      if (n < 1 || n > 1000)
-        c->fail(key, fmt::format("expected 1 to 1000 steps between {} (1: every step)", what));
-      return static_cast<int>(n);
-    };
-    s.coupling.force_every = every("force_every", "membrane force updates");
-    s.coupling.viscosity_field_every =
-        every("viscosity_field_every", "rebuilds of the viscosity field");
-  }
-
+void check_mach(const TomlSection& d, const Scene& s) {
   // Lattice velocity check: keep Mach number small so compressibility errors stay negligible.
+  const double mu = s.fluid.viscosity_Pa_s;
+  const double h = s.cell_um.depth * 1e-6;
   LatticeUnits u = s.units();
   double u_lu = u.velocity_lu(s.drive.pressure_gradient_Pa_per_m * h * h / (12.0 * mu));
   if (u_lu > 0.05)
-    d.fail(has_re ? "reynolds" : "pressure_gradient_Pa_per_m",
+    d.fail(s.drive.reynolds ? "reynolds" : "pressure_gradient_Pa_per_m",
            fmt::format("the estimated lattice velocity {:.3g} exceeds 0.05 (Mach too high); lower "
                        "the drive or raise tau",
                        u_lu));
+}
+
+void read_run(const TomlSection& r, Scene& s) {
+  s.run.max_steps = r.integer("max_steps", s.run.max_steps);
+  if (s.run.max_steps < 1) r.fail("max_steps", "expected a positive integer");
+  s.run.steady_tolerance = r.in_range("steady_tolerance", 0.0, 1.0, 0.0);
+  s.run.log_every = r.integer("log_every", s.run.log_every);
+  if (s.run.log_every < 1) r.fail("log_every", "expected a positive integer");
+  std::int64_t th = r.integer("threads", 0);
+  if (th < 0 || th > 1024) r.fail("threads", "expected 0 (all cores) or a thread count");
+  s.run.threads = static_cast<int>(th);
+}
+
+void read_output(const TomlSection& o, Scene& s) {
+  s.output.file = o.string("file", "");
+  s.output.snapshot_every = o.integer("snapshot_every", 0);
+  if (s.output.snapshot_every < 0) o.fail("snapshot_every", "expected >= 0");
+  s.output.fields = o.boolean("fields", true);
+  s.output.mesh_every = o.integer("mesh_every", 0);
+  if (s.output.mesh_every < 0)
+    o.fail("mesh_every", "expected steps between mesh samples >= 0 (0: no meshes)");
+}
+
+void read_coupling(const TomlSection& c, Scene& s) {
+  s.coupling.ib_kernel = c.choice("ib_kernel", {"peskin2", "peskin3", "peskin4"}, "peskin4");
+  const std::int64_t k = c.integer("membrane_processes", 1);
+  if (k < 1 || k > 64) c.fail("membrane_processes", "expected 1 to 64 membrane processes");
+  s.coupling.membrane_processes = static_cast<int>(k);
+  s.coupling.transport = c.choice("transport", {"ipc", "tcp"}, "ipc");
+  s.coupling.timeout_s = c.in_range("timeout_s", 0.1, 86400.0, 30.0);
+  auto every = [&](const char* key, const char* what) {
+    const std::int64_t n = c.integer(key, 1);
+    if (n < 1 || n > 1000)
+      c.fail(key, fmt::format("expected 1 to 1000 steps between {} (1: every step)", what));
+    return static_cast<int>(n);
+  };
+  s.coupling.force_every = every("force_every", "membrane force updates");
+  s.coupling.viscosity_field_every =
+      every("viscosity_field_every", "rebuilds of the viscosity field");
+}
+
+Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::string_view text) {
+  Scene s;
+  s.hash = fnv1a_hex(text);
+  s.file = doc->file();
+  s.document = doc;
+  TomlSection root = TomlSection::root(doc);
+
+  TomlSection meta = root.section("scene");
+  s.name = meta.string("name");
+  if (s.name.empty() || s.name.find('/') != std::string::npos)
+    meta.fail("name", "expected a non-empty name without '/'");
+  s.description = meta.string("description", "");
+
+  read_geometry(root.section("geometry"), s);
+  read_lattice(root.section("lattice"), s);
+  if (auto f = root.optional_section("fluid")) read_fluid(*f, s);
+  const TomlSection d = root.section("drive");
+  read_drive(d, s);
+  if (auto r = root.optional_section("run")) read_run(*r, s);
+  if (auto o = root.optional_section("output")) read_output(*o, s);
+  if (s.output.file.empty()) s.output.file = "runs/" + s.name + ".h5";
+  if (auto c = root.optional_section("coupling")) read_coupling(*c, s);
+  check_mach(d, s);
 
   if (check_unknown) doc->reject_unknown(tables_owned_elsewhere());
   return s;
