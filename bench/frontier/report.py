@@ -29,7 +29,8 @@ converged as the table shows (compare it with the point that refines it, e.g. Re
 - dense: |M - M_ref| / M_ref, M = u_x / u_x,empty at the stated t p' (both flows from rest);
 - cost: steps per pillar (deterministic) and wall seconds per pillar on one core (steps per
   pillar / coupled steps per second of the run; noisy on a shared machine: compare steps per
-  pillar first).
+  pillar first). For a dense problem a pillar is lambda over the box-mean u_x at t p' (the
+  suspension's speed at that time, not a settled run's): a cost per unit of physical time.
 
 How to pick a setting for a new question: take the cheapest point whose errors on the problem
 closest to yours (one cell: dilute; a suspension: dense) are within what the question can
