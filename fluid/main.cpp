@@ -36,13 +36,7 @@ static int run_main(int argc, char** argv) {
       "coupled mode: serve membrane programs at this endpoint (ipc://path, tcp://host:port)");
   app.add_option("--peers", coupled.peers, "membrane processes to serve (coupled mode)")
       ->check(CLI::Range(1, 64));
-  app.add_option(
-      "--checkpoint", coupled.checkpoint,
-      "coupled mode: checkpoint file, written when the run ends (and see --checkpoint-every)");
-  app.add_option("--checkpoint-every", coupled.checkpoint_every,
-                 "coupled mode: steps between checkpoints (0: only at the end)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--resume", coupled.resume, "coupled mode: start from this checkpoint");
+  dld::add_checkpoint_options(app, coupled.checkpoint, coupled.checkpoint_every, coupled.resume);
   app.add_option("--cells", coupled.cells, "total cells of the membrane processes (coupled mode)")
       ->check(CLI::Range(0, 100000));
   CLI11_PARSE(app, argc, argv);

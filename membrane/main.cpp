@@ -148,13 +148,7 @@ static int run_main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--until-mode-certain", coupled.stop_when_mode_certain,
                "coupled mode: end the run once every cell's mode (zigzag/displacement) is certain");
-  app.add_option(
-      "--checkpoint", coupled.checkpoint,
-      "coupled mode: checkpoint file, written when the run ends (and see --checkpoint-every)");
-  app.add_option("--checkpoint-every", coupled.checkpoint_every,
-                 "coupled mode: steps between checkpoints (0: only at the end)")
-      ->check(CLI::NonNegativeNumber);
-  app.add_option("--resume", coupled.resume, "coupled mode: start from this checkpoint");
+  dld::add_checkpoint_options(app, coupled.checkpoint, coupled.checkpoint_every, coupled.resume);
   app.add_option("-o,--output", output,
                  "HDF5 output of standalone runs (default: the scene's output.file)");
   bool pack = false;

@@ -28,4 +28,17 @@ inline CLI::Validator step_count(bool allow_zero = false) {
       allow_zero ? "STEPS (0..1e15)" : "STEPS (1..1e15)");
 }
 
+/// The checkpoint options every coupled program takes (dld-fluid, dld-membrane; dld-run passes
+/// them on): --checkpoint FILE, --checkpoint-every STEPS, --resume FILE.
+inline void add_checkpoint_options(CLI::App& app, std::string& file, std::int64_t& every,
+                                   std::string& resume) {
+  app.add_option(
+      "--checkpoint", file,
+      "coupled mode: checkpoint file, written when the run ends (and see --checkpoint-every)");
+  app.add_option("--checkpoint-every", every,
+                 "coupled mode: steps between checkpoints (0: only at the end)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--resume", resume, "coupled mode: start from this checkpoint");
+}
+
 }  // namespace dld
