@@ -331,15 +331,7 @@ void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
       break;
   }
   const bool shared = peer.segment.mapped();
-  const FrameType expected = shared ? FrameType::step_shared : FrameType::step;
-  if (header.type != expected) {
-    throw_malformed(link, step_, "type",
-                    fmt::format("expected {}, shutdown or error, got {}", to_string(expected),
-                                to_string(header.type)));
-  }
-  if (header.step != step_) {
-    throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
-  }
+  require_data_frame(header, shared ? FrameType::step_shared : FrameType::step, step_, link);
   const std::byte* data =
       read_nodes(frame, header, peer.nodes, shared ? kSharedFrameArrays : kStepFrameArrays, link);
   if (shared) {

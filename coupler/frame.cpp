@@ -123,6 +123,18 @@ void throw_malformed(const Link& link, std::uint64_t step, std::string_view fiel
                                  link.self, link.peer, step, field, detail));
 }
 
+void require_data_frame(const FrameHeader& header, FrameType expected, std::uint64_t step,
+                        const Link& link) {
+  if (header.type != expected) {
+    throw_malformed(link, step, "type",
+                    fmt::format("expected {}, shutdown or error, got {}", to_string(expected),
+                                to_string(header.type)));
+  }
+  if (header.step != step) {
+    throw_malformed(link, step, "step", fmt::format("expected {}, got {}", step, header.step));
+  }
+}
+
 FrameHeader read_header(const zmq::message_t& frame, const Link& link, std::uint64_t at_step) {
   if (frame.size() < kHeaderBytes) {
     throw_malformed(link, at_step, "header",

@@ -99,6 +99,11 @@ std::string read_error_text(const zmq::message_t& frame, const FrameHeader& head
 [[noreturn]] void throw_malformed(const Link& link, std::uint64_t step, std::string_view field,
                                   std::string_view detail);
 
+/// A data frame of a running step (not shutdown or error, which the caller handled): its type is
+/// `expected` and its step `step`, else throw_malformed naming "type" or "step".
+void require_data_frame(const FrameHeader& header, FrameType expected, std::uint64_t step,
+                        const Link& link);
+
 /// Refuses (throw_malformed, naming `field` and the first bad node) a node array of 3 x `nodes`
 /// doubles at `data` (any alignment) holding a NaN or an infinity: a peer's non-finite values
 /// would otherwise spread through the lattice and into its checkpoints.

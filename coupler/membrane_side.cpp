@@ -227,15 +227,8 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
       default:
         break;
     }
-    const FrameType expected = shared_ ? FrameType::velocities_shared : FrameType::velocities;
-    if (header.type != expected) {
-      throw_malformed(link, step_, "type",
-                      fmt::format("expected {}, shutdown or error, got {}", to_string(expected),
-                                  to_string(header.type)));
-    }
-    if (header.step != step_) {
-      throw_malformed(link, step_, "step", fmt::format("expected {}, got {}", step_, header.step));
-    }
+    require_data_frame(header, shared_ ? FrameType::velocities_shared : FrameType::velocities,
+                       step_, link);
     const std::byte* data = read_nodes(reply_, header, nodes_,
                                        shared_ ? kSharedFrameArrays : kVelocitiesFrameArrays, link);
     if (shared_) {
