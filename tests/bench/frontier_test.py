@@ -108,6 +108,17 @@ class BadGrid(unittest.TestCase):
                             "missing 'cells'")
         self.expect_refused(GOOD + "colour = 1\n", "unknown key 'colour'")
 
+    def test_unknown_point_in_only(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "grid.toml")
+            with open(path, "w") as f:
+                f.write(GOOD)
+            r = frontier("--grid", path, "--out", d, "--only", "dilute/fast", "--report",
+                         os.path.join(d, "f.md"))
+            self.assertNotEqual(r.returncode, 0)
+            self.assertEqual(r.stderr.strip(), "frontier: error: --only: 'dilute/fast': no point "
+                             "'fast' in the grid (points: reference)")
+
     def test_not_toml(self):
         self.expect_refused("[reference\n", "not TOML")
 
