@@ -59,13 +59,19 @@ void FluidSide::open(zmq::context_t& context) {
     throw InputError(fmt::format("fluid: coupler given {} expected cell node counts for {} cells",
                                  config_.cell_nodes.size(), config_.scene.total_cells));
   }
+  if (config_.options.curve) {  // before any bind: no handshake without the guard
+    zap_ = std::make_unique<ZapGuard>(context, config_.options.curve->client_publics, kSelf);
+  }
+  std::vector<std::pair<zmq::socket_t*, std::string>> servers;
   for (std::size_t k = 0; k < config_.endpoints.size(); ++k) {
     Peer peer;
     peer.channel = std::make_unique<Channel>(context, Channel::Role::bind, config_.endpoints[k],
                                              config_.options, kSelf);
     peer.label = fmt::format("membrane peer {}", k);
+    servers.emplace_back(&peer.channel->socket(), peer.label);
     peers_.push_back(std::move(peer));
   }
+  if (zap_) zap_->start(servers);
   step_ = config_.scene.start_step;
 }
 

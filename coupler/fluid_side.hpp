@@ -27,6 +27,7 @@
 #include "coupler/options.hpp"
 #include "coupler/shared_segment.hpp"
 #include "coupler/state.hpp"
+#include "coupler/zap_guard.hpp"
 
 namespace dld::coupler {
 
@@ -51,6 +52,10 @@ class FluidSide {
 
   /// The endpoints as bound (a tcp port "*" resolved), in peer order.
   std::vector<std::string> endpoints() const;
+  /// With CURVE: every client turned away so far (also logged), one line each.
+  std::vector<std::string> refused_clients() const {
+    return zap_ ? zap_->refusals() : std::vector<std::string>{};
+  }
 
   void initialize();
   /// Waits for step step() from every peer. False when all peers sent shutdown instead.
@@ -119,6 +124,7 @@ class FluidSide {
 
   FluidConfig config_;
   std::unique_ptr<zmq::context_t> own_context_;  // declared before peers_: sockets close first
+  std::unique_ptr<ZapGuard> zap_;                // with CURVE: admits the listed clients only
   std::vector<Peer> peers_;
   State state_ = State::created;
   std::uint64_t step_ = 0;

@@ -3,17 +3,20 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace dld::coupler {
 
-/// CURVE keys (Z85 text, 40 characters each, from zmq_curve_keypair). The fluid is the server and
-/// needs its secret key; each membrane is a client and needs the server's public key and a key
-/// pair of its own. Meant for tcp beyond loopback; inproc and ipc ignore nothing but gain nothing.
+/// CURVE keys (Z85 text, 40 characters each, from zmq_curve_keypair; files: curve_keys.hpp). The
+/// fluid is the server and needs its secret key and the public keys of the clients it admits;
+/// each membrane is a client and needs the server's public key and a key pair of its own. Meant
+/// for tcp (the programs require it there, coupler/tcp_security.hpp); ipc and inproc gain nothing.
 struct CurveKeys {
   std::string server_public;
-  std::string server_secret;  ///< fluid only
-  std::string client_public;  ///< membrane only
-  std::string client_secret;  ///< membrane only
+  std::string server_secret;                ///< fluid only
+  std::string client_public;                ///< membrane only
+  std::string client_secret;                ///< membrane only
+  std::vector<std::string> client_publics;  ///< fluid only: the clients admitted (none: nobody)
 };
 
 /// Liveness and security knobs of one side. Every wait is bounded by one of these times, so a dead

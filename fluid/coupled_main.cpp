@@ -92,6 +92,9 @@ void on_sigint(int) {
 }  // namespace
 
 int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
+  // Key files first: a bad one stops the program before the lattice is built.
+  const auto curve =
+      coupler::curve_for(opt.endpoint, opt.security, coupler::Side::server, "dld-fluid");
   FluidSolver solver(fluid_config(scene));
   const ImmersedBoundary ib(solver.lattice(), ib_kernel_from_name(scene.coupling.ib_kernel));
   const LatticeUnits units = scene.units();
@@ -101,6 +104,7 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
   fc.endpoints = coupler::peer_endpoints(opt.endpoint, static_cast<std::size_t>(opt.peers));
   fc.options.timeout =
       std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
+  fc.options.curve = curve;
   coupler::FluidSide side(fc);
 
   // The run file's time series up to the checkpoint comes with it: a resumed run file is whole.

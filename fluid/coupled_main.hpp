@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "coupler/tcp_security.hpp"
 #include "shared/scene.hpp"
 
 namespace dld::fluid {
@@ -15,6 +16,7 @@ struct CoupledOptions {
   std::string checkpoint;             ///< checkpoint file ("" = none): written every
   std::int64_t checkpoint_every = 0;  ///< ... this many steps (0: only when the run ends)
   std::string resume;                 ///< start from this checkpoint ("" = from rest)
+  coupler::SecurityArgs security;     ///< tcp: CURVE key files or --plain-tcp
 };
 
 /// Serves membrane programs until they end the run; returns the process exit code.

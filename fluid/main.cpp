@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "coupler/security_options.hpp"
 #include "fluid/coupled_main.hpp"
 #include "fluid/fluid_run.hpp"
 #include "shared/cli_checks.hpp"
@@ -34,6 +35,7 @@ static int run_main(int argc, char** argv) {
   app.add_option(
       "--serve", coupled.endpoint,
       "coupled mode: serve membrane programs at this endpoint (ipc://path, tcp://host:port)");
+  dld::coupler::add_security_options(app, coupled.security, dld::coupler::Side::server);
   app.add_option("--peers", coupled.peers, "membrane processes to serve (coupled mode)")
       ->check(CLI::Range(1, 64));
   dld::add_checkpoint_options(app, coupled.checkpoint, coupled.checkpoint_every, coupled.resume);

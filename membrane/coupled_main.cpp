@@ -150,6 +150,8 @@ coupler::MembraneConfig CoupledRun::config() const {
                        static_cast<std::uint32_t>(cells_.nodes_per_cell()));
   mc.options.timeout =
       std::chrono::milliseconds(static_cast<long>(scene_.coupling.timeout_s * 1000));
+  mc.options.curve =
+      coupler::curve_for(mc.endpoint, a_.security, coupler::Side::client, "dld-membrane");
   return mc;
 }
 

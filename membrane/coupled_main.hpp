@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <string>
 
+#include "coupler/tcp_security.hpp"
 #include "membrane/membrane_scene.hpp"
 
 namespace dld::membrane {
@@ -18,6 +19,7 @@ struct CoupledArgs {
   std::string checkpoint;               ///< checkpoint file ("" = none), written when the run ends
   std::int64_t checkpoint_every = 0;    ///< and every this many steps (0: only at the end)
   std::string resume;                   ///< start from this checkpoint; `steps` stays the last step
+  coupler::SecurityArgs security;       ///< tcp: CURVE key files or --plain-tcp
 };
 
 /// Runs this process's share of the scene's cells against dld-fluid; returns the exit code.

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "coupler/security_options.hpp"
 #include "membrane/clearance.hpp"
 #include "membrane/coupled_main.hpp"
 #include "membrane/membrane_scene.hpp"
@@ -134,6 +135,7 @@ static int run_main(int argc, char** argv) {
   bool verbose = false;
   dld::membrane::CoupledArgs coupled;
   app.add_option("scene", scene_path, "scene file (TOML)")->required();
+  dld::coupler::add_security_options(app, coupled.security, dld::coupler::Side::client);
   app.add_option("--connect", coupled.endpoint,
                  "coupled mode: the fluid's endpoint (dld-fluid --serve)");
   app.add_option("--peer", coupled.peer, "this process's index among the membrane processes")

@@ -18,6 +18,7 @@
 #include "coupler/error.hpp"
 #include "coupler/membrane_side.hpp"
 #include "coupler/scene_identity.hpp"
+#include "coupler/security_options.hpp"
 #include "shared/cli_checks.hpp"
 #include "shared/dld_geometry.hpp"
 #include "shared/h5file.hpp"
@@ -50,6 +51,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "random seed of the start positions");
   app.add_option("-o,--output", output, "trajectory file (HDF5)");
+  dld::coupler::SecurityArgs security;
+  dld::coupler::add_security_options(app, security, dld::coupler::Side::client);
   CLI11_PARSE(app, argc, argv);
   dld::setup_logging(fmt::format("dld-tracers-{}", peer));
   try {
@@ -76,6 +79,8 @@ int main(int argc, char** argv) {
     mc.cell_nodes.assign(static_cast<std::size_t>(count), 1);
     mc.options.timeout =
         std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
+    mc.options.curve =
+        dld::coupler::curve_for(mc.endpoint, security, dld::coupler::Side::client, "dld-tracers");
     dld::coupler::MembraneSide side(mc);
     side.initialize();
     const std::vector<double> force(x.size(), 0.0);

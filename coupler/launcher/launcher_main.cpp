@@ -21,6 +21,7 @@
 #include <optional>
 #include <thread>
 
+#include "coupler/curve_keys.hpp"
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/run_file_merge.hpp"
 #include "shared/cli_checks.hpp"
@@ -177,6 +178,7 @@ RunPaths run_paths(const dld::Scene& scene) {
   // ipc paths are limited to ~100 bytes: keep the socket in a short private directory.
   p.sock_dir = fs::temp_directory_path() / fmt::format("dld-run-{}", getpid());
   fs::create_directories(p.sock_dir);
+  fs::permissions(p.sock_dir, fs::perms::owner_all, fs::perm_options::replace);  // keys, sockets
   // coupling.transport: ipc (default) or tcp over loopback, one port per membrane process from a
   // per-launcher base (tcp across machines: start dld-fluid --serve and dld-membrane --connect by
   // hand, docs/protocol.md).
@@ -261,6 +263,22 @@ std::vector<std::vector<std::string>> program_commands(const Options& o, const d
     commands.push_back(c);
   }
   return commands;
+}
+
+/// Over tcp the run gets its own CURVE keys (docs/protocol.md, "Security"): a pair for the fluid
+/// and one per membrane process, in the run's private folder; the fluid admits those clients only.
+void add_curve_keys(std::vector<std::vector<std::string>>& commands, const RunPaths& p) {
+  if (p.endpoint.rfind("tcp://", 0) != 0) return;
+  const std::string fluid = (p.sock_dir / "fluid").string();
+  dld::coupler::write_key_files(fluid, dld::coupler::new_key_pair());
+  commands[0].insert(commands[0].end(), {"--curve-key", fluid + ".key", "--curve-clients"});
+  for (std::size_t k = 1; k < commands.size(); ++k) {
+    const std::string client = (p.sock_dir / fmt::format("membrane-{}", k - 1)).string();
+    dld::coupler::write_key_files(client, dld::coupler::new_key_pair());
+    commands[0].push_back(client + ".pub");
+    commands[k].insert(commands[k].end(),
+                       {"--curve-key", client + ".key", "--curve-server", fluid + ".pub"});
+  }
 }
 
 /// Progress every 5 s: the fluid's last line and each membrane program's (pillars, ETA, modes).
@@ -358,7 +376,8 @@ static int run_main(int argc, char** argv) {
     } sock_dir_guard{paths.sock_dir};
     const int cells = cell_count(scene, o);
     const auto from = resume_points(o, paths.stem, scene.coupling.membrane_processes);
-    const auto commands = program_commands(o, scene, paths, cells, from);
+    auto commands = program_commands(o, scene, paths, cells, from);
+    add_curve_keys(commands, paths);
     for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
     if (o.dry) {  // the membrane part too: dld-run itself reads only the fluid's tables
       return o.with_cells() ? check_membrane_part(commands[1][0], o.scene_path, paths.sock_dir) : 0;

@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <filesystem>
+#include <functional>
 
 #include "coupler_test_util.hpp"
 
@@ -206,24 +207,34 @@ TEST(CoupledRun, RestartStartsAtTheAgreedStep) {
 namespace dld::coupler::test {
 namespace {
 
-CurveKeys make_keys() {
-  char server_public[41], server_secret[41], client_public[41], client_secret[41];
-  if (zmq_curve_keypair(server_public, server_secret) != 0 ||
-      zmq_curve_keypair(client_public, client_secret) != 0) {
-    throw std::runtime_error("zmq_curve_keypair failed");
-  }
-  return {server_public, server_secret, client_public, client_secret};
+struct Party {
+  std::string public_key, secret_key;
+};
+
+Party party() {
+  char pub[41], sec[41];
+  if (zmq_curve_keypair(pub, sec) != 0) throw std::runtime_error("zmq_curve_keypair failed");
+  return {pub, sec};
 }
 
-TEST(Curve, AuthenticatedTcpRunIsBitExact) {
-  if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
-  const CurveKeys keys = make_keys();
-  Options fluid_options = test_options();
-  fluid_options.curve = CurveKeys{keys.server_public, keys.server_secret, "", ""};
-  Options membrane_options = test_options();
-  membrane_options.curve =
-      CurveKeys{keys.server_public, "", keys.client_public, keys.client_secret};
-  FluidSide fluid({test_scene(1), {"tcp://127.0.0.1:*"}, {}, fluid_options});
+Options server_options(const Party& server, const std::vector<Party>& admitted,
+                       std::chrono::milliseconds timeout = 30'000ms) {
+  Options o = test_options(timeout);
+  o.curve = CurveKeys{server.public_key, server.secret_key, "", "", {}};
+  for (const Party& c : admitted) o.curve->client_publics.push_back(c.public_key);
+  return o;
+}
+
+Options client_options(const std::string& server_public, const Party& client,
+                       std::chrono::milliseconds timeout = 30'000ms) {
+  Options o = test_options(timeout);
+  o.curve = CurveKeys{server_public, "", client.public_key, client.secret_key, {}};
+  return o;
+}
+
+/// One step of a one-cell run between the fluid and a membrane with these options; the
+/// velocities the membrane received equal the ones sent.
+void expect_one_exact_step(FluidSide& fluid, const Options& membrane_options) {
   std::vector<double> received;
   std::thread membrane_thread([&] {
     MembraneSide m(
@@ -246,19 +257,75 @@ TEST(Curve, AuthenticatedTcpRunIsBitExact) {
   EXPECT_EQ(received, u);
 }
 
+TEST(Curve, AuthenticatedTcpRunIsBitExact) {
+  if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
+  const Party server = party(), client = party();
+  FluidSide fluid({test_scene(1), {"tcp://127.0.0.1:*"}, {}, server_options(server, {client})});
+  expect_one_exact_step(fluid, client_options(server.public_key, client));
+  EXPECT_TRUE(fluid.refused_clients().empty());
+}
+
+/// An intruder connects first: it is refused, named in the fluid's refusals (its log), and the
+/// run's own membrane still gets in afterwards.
+void expect_refused_then_run(const std::function<Options(const Party& server)>& intruder,
+                             const std::string& why) {
+  const Party server = party(), client = party();
+  FluidSide fluid({test_scene(1), {"tcp://127.0.0.1:*"}, {}, server_options(server, {client})});
+  {
+    MembraneSide rogue({test_scene(1),
+                        fluid.endpoints()[0],
+                        "rogue",
+                        0,
+                        1,
+                        0,
+                        {3},
+                        intruder(server)});  // connects: the handshake starts at once
+    const auto until = std::chrono::steady_clock::now() + 5s;
+    while (fluid.refused_clients().empty() && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(10ms);
+  }
+  const auto refused = fluid.refused_clients();
+  ASSERT_FALSE(refused.empty()) << "no refusal logged";
+  EXPECT_NE(refused[0].find(why), std::string::npos) << refused[0];
+  EXPECT_EQ(refused[0].rfind("fluid: refused a client", 0), 0u) << refused[0];
+  expect_one_exact_step(fluid, client_options(server.public_key, client));
+}
+
+TEST(Curve, KeylessClientIsRefusedAndNamed) {
+  if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
+  expect_refused_then_run([](const Party&) { return test_options(); }, "offered no CURVE keys");
+}
+
+TEST(Curve, MadeUpKeyPairIsRefusedAndNamed) {
+  if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
+  const Party stranger = party();
+  expect_refused_then_run(
+      [&](const Party& server) { return client_options(server.public_key, stranger); },
+      "its key " + stranger.public_key + " is not among the run's client keys");
+}
+
+TEST(Curve, WrongServerKeyIsRefusedAndNamed) {
+  if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
+  const Party client = party(), other_server = party();
+  expect_refused_then_run(
+      [&](const Party&) { return client_options(other_server.public_key, client); },
+      "does not decrypt");
+}
+
 TEST(Curve, WrongServerKeyNeverGetsIn) {
   if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
-  const CurveKeys keys = make_keys();
-  const CurveKeys other = make_keys();
-  Options fluid_options = test_options(300ms);
-  fluid_options.curve = CurveKeys{keys.server_public, keys.server_secret, "", ""};
-  Options membrane_options = test_options(300ms);
-  membrane_options.curve =
-      CurveKeys{other.server_public, "", keys.client_public, keys.client_secret};
-  FluidSide fluid({test_scene(1), {"tcp://127.0.0.1:*"}, {}, fluid_options});
+  const Party server = party(), client = party(), other = party();
+  FluidSide fluid(
+      {test_scene(1), {"tcp://127.0.0.1:*"}, {}, server_options(server, {client}, 300ms)});
   std::thread membrane_thread([&] {
-    MembraneSide m(
-        {test_scene(1), fluid.endpoints()[0], "membrane-0", 0, 1, 0, {3}, membrane_options});
+    MembraneSide m({test_scene(1),
+                    fluid.endpoints()[0],
+                    "membrane-0",
+                    0,
+                    1,
+                    0,
+                    {3},
+                    client_options(other.public_key, client, 300ms)});
     EXPECT_THROW(m.initialize(), CouplerError);
   });
   EXPECT_THROW(fluid.initialize(), CouplerError);  // no hello ever arrives
