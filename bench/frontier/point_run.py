@@ -135,10 +135,15 @@ def dilute_metrics(stem, columns):
         return {"status": f"pending ({len(cross)} of {last} columns)"}
     (s1, y1), (s2, y2) = cross[first - 1], cross[last - 1]
     mode = _tail_match(stem + "-cells-0.log", r"summary: cell 0\s+mode (\w+)")
+    if not mode:  # still running (a reference run longer than the problem): its mode so far
+        mode = _tail_match(stem + "-cells-0.log", r"modes 0:(\w+\??)")
+        mode_text = f"{mode.group(1)} (so far)" if mode else "?"
+    else:
+        mode_text = mode.group(1)
     steps_per_pillar = (s2 - s1) / (last - first)
     rate = _steps_per_s(stem)
     return {"status": "ok", "shift_per_column_um": (y2 - y1) / (last - first), "row_shift_um": d,
-            "mode": mode.group(1) if mode else "?", "steps_per_pillar": steps_per_pillar,
+            "mode": mode_text, "steps_per_pillar": steps_per_pillar,
             "steps_per_s": rate, "wall_s_per_pillar": steps_per_pillar / rate,
             "volume_change_pct": _largest_volume_change(stem)}
 
