@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "fluid/ib_axis_batch.hpp"
 #include "shared/input_error.hpp"
 
 namespace dld::fluid {
@@ -145,8 +146,12 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
 
 template <int W>
 int ImmersedBoundary::z_layers(double Z, double* wz, std::size_t* layer) const {
+  return fit_z_layers<W>(axis_weights<W>(kernel_, Z, wz), wz, layer);
+}
+
+template <int W>
+int ImmersedBoundary::fit_z_layers(int k0, double* wz, std::size_t* layer) const {
   const Domain& d = lattice_.domain();
-  int k0 = axis_weights<W>(kernel_, Z, wz);
   if (d.walls_z && (k0 < 0 || k0 + W > d.nz)) {
     // Wall layers leave the support (stencil() drops them): still separable, with those z
     // weights zero and the remaining layers renormalised. Their slots point at fluid layers.
@@ -225,8 +230,15 @@ bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
   Y -= wraps * d.shift;
   const int i0 = axis_weights<W>(kernel_, X, fp.wx);
   if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
-  z_layers<W>(Z, fp.wz, fp.layer);
-  const int j0 = axis_weights<W>(kernel_, Y, fp.wy);
+  const int k0 = axis_weights<W>(kernel_, Z, fp.wz);
+  return place_footprint<W>(i0, axis_weights<W>(kernel_, Y, fp.wy), k0, fp);
+}
+
+template <int W>
+bool ImmersedBoundary::place_footprint(int i0, int j0, int k0, IbFootprint<W>& fp) const {
+  const Domain& d = lattice_.domain();
+  if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
+  fit_z_layers<W>(k0, fp.wz, fp.layer);
   const int jw0 = j0 >= 0 && j0 < d.ny ? j0 : ((j0 % d.ny) + d.ny) % d.ny;
   if (block_solid_[static_cast<std::size_t>(jw0) * d.nx + i0]) return false;
   const auto px = static_cast<std::size_t>(lattice_.px());
@@ -242,6 +254,21 @@ bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
   for (double& w : fp.wx) w *= inv;
   fp.x0 = static_cast<std::size_t>(i0) + 1;
   return true;
+}
+
+bool ImmersedBoundary::batched_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
+                                         IbFootprint<4>& fp) const {
+  const Domain& d = lattice_.domain();
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
+  if (d.ny < 4 || d.nz < 4) return false;
+  for (int a = 0; a < 4; ++a) {
+    fp.wx[a] = axes.w[0][a][lane];
+    fp.wy[a] = axes.w[1][a][lane];
+    fp.wz[a] = axes.w[2][a][lane];
+  }
+  return place_footprint<4>(static_cast<int>(axes.first[0][lane]),
+                            static_cast<int>(axes.first[1][lane]),
+                            static_cast<int>(axes.first[2][lane]), fp);
 }
 
 template bool ImmersedBoundary::footprint<2>(const double*, IbFootprint<2>&) const;
@@ -352,6 +379,9 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
   sort_by_column();
   group_markers(slabs, W);
   constexpr bool keep = W == 4;  // the default kernel keeps its footprints for interpolation
+  const bool batched = W == 4 && kernel_ == IbKernel::kPeskin4;  // its axes SIMD across markers
+  const auto nx = static_cast<double>(lattice_.nx());
+  const double shift = lattice_.domain().shift;
   if (keep) {
     spread_footprints_.resize(markers);
     spread_separable_.resize(markers);
@@ -368,14 +398,26 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
     IbFootprint<W> fp;
     IbSplitFootprint<W> sp;
     IbStencil s;
+    Peskin4AxisBatch axes;
     // Phase 0: the markers inside each slab; phase 1: those straddling each slab's lower edge.
     for (int phase = 0; phase < 2; ++phase) {
 #pragma omp barrier
       for (int g = phase * slabs + t; g < (phase + 1) * slabs; g += nt) {
-        for (std::uint32_t q = group_start_[static_cast<std::size_t>(g)];
-             q < group_start_[static_cast<std::size_t>(g) + 1]; ++q) {
+        const std::uint32_t begin = group_start_[static_cast<std::size_t>(g)],
+                            end = group_start_[static_cast<std::size_t>(g) + 1];
+        for (std::uint32_t q = begin; q < end; ++q) {
           const std::size_t m = order_[q];
-          const bool separable = footprint<W>(&positions[3 * m], fp);
+          bool separable = false;
+          if (batched) {
+            const int lane = static_cast<int>((q - begin) % kIbBatch);
+            if (lane == 0) {
+              const int count = static_cast<int>(std::min<std::uint32_t>(kIbBatch, end - q));
+              peskin4_axis_batch(positions.data(), &order_[q], count, nx, shift, axes);
+            }
+            if constexpr (W == 4) separable = batched_footprint(axes, lane, &positions[3 * m], fp);
+          } else {
+            separable = footprint<W>(&positions[3 * m], fp);
+          }
           if constexpr (keep) {
             spread_separable_[q] = separable ? 1 : 0;
             if (separable) spread_footprints_[q] = fp;

@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "fluid/ib_axis_batch.hpp"
 #include "fluid/ib_footprint.hpp"
 #include "fluid/ib_kernel.hpp"
 #include "fluid/lattice.hpp"
@@ -57,12 +58,23 @@ class ImmersedBoundary {
   /// reaches a solid node.
   template <int W>
   bool split_footprint(const double* p, IbSplitFootprint<W>& fp) const;
+  /// footprint<4>() of the marker at p (Peskin 4) from its lane of a batch of axis weights
+  /// (fluid/ib_axis_batch.hpp): the same weights and nodes, bit for bit.
+  bool batched_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
+                         IbFootprint<4>& fp) const;
 
  private:
   /// z weights and layer offsets of a support (wall layers zero-weighted, see footprint());
   /// returns the first layer.
   template <int W>
   int z_layers(double Z, double* wz, std::size_t* layer) const;
+  /// The same from the support's first layer k0 and its weights wz (adjusted in place).
+  template <int W>
+  int fit_z_layers(int k0, double* wz, std::size_t* layer) const;
+  /// The rest of footprint() once the axis weights (fp.wx, wy, wz, unnormalised) and the
+  /// supports' first nodes (i0, j0, k0; x folded into the box) are known.
+  template <int W>
+  bool place_footprint(int i0, int j0, int k0, IbFootprint<W>& fp) const;
   template <int W>
   void spread_w(std::span<const double> positions, std::span<const double> forces,
                 const std::array<double*, 3>& field) const;

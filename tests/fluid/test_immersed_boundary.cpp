@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "fluid/ib_axis_batch.hpp"
 #include "fluid/immersed_boundary.hpp"
 
 namespace dld::fluid {
@@ -305,6 +306,49 @@ TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
   expect_footprint_is_stencil<2>(L, IbKernel::kPeskin2, pos);
   expect_footprint_is_stencil<3>(L, IbKernel::kPeskin3, pos);
   expect_footprint_is_stencil<4>(L, IbKernel::kPeskin4, pos);
+}
+
+// The SIMD batch of axis weights (fluid/ib_axis_batch.hpp) gives footprint<4>()'s footprint bit
+// for bit, also for markers folded from other boxes, by the walls and refused ones (x face,
+// pillar, not finite).
+TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
+  const Lattice L(test_domain(3.4));
+  const ImmersedBoundary ib(L, IbKernel::kPeskin4);
+  auto pos = markers_everywhere(L, 1000, 23);
+  for (std::size_t m = 0; m < 100; ++m)
+    pos[3 * m] += static_cast<double>(m % 5) * L.nx() - 2.0 * L.nx();
+  pos[3 * 7] = std::nan("");
+  pos[3 * 8 + 2] = INFINITY;
+  const std::size_t markers = pos.size() / 3;
+  std::vector<std::uint32_t> index(markers);
+  for (std::size_t m = 0; m < markers; ++m) index[m] = static_cast<std::uint32_t>(markers - 1 - m);
+  int separable = 0, refused = 0;
+  for (std::size_t q0 = 0; q0 < markers; q0 += kIbBatch) {
+    const int n = static_cast<int>(std::min<std::size_t>(kIbBatch, markers - q0));
+    Peskin4AxisBatch axes;
+    peskin4_axis_batch(pos.data(), &index[q0], n, L.nx(), L.domain().shift, axes);
+    for (int l = 0; l < n; ++l) {
+      const double* p = &pos[3 * index[q0 + static_cast<std::size_t>(l)]];
+      IbFootprint<4> a, b;
+      const bool one = ib.footprint<4>(p, a), batch = ib.batched_footprint(axes, l, p, b);
+      ASSERT_EQ(one, batch) << "marker " << index[q0 + static_cast<std::size_t>(l)];
+      if (!one) {
+        ++refused;
+        continue;
+      }
+      ++separable;
+      EXPECT_EQ(a.x0, b.x0);
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_EQ(a.wx[k], b.wx[k]);  // exact equality: the same bits
+        EXPECT_EQ(a.wy[k], b.wy[k]);
+        EXPECT_EQ(a.wz[k], b.wz[k]);
+        EXPECT_EQ(a.row[k], b.row[k]);
+        EXPECT_EQ(a.layer[k], b.layer[k]);
+      }
+    }
+  }
+  EXPECT_GT(separable, 500);
+  EXPECT_GT(refused, 20);
 }
 
 // spread() and interpolate() (separable footprints, x slabs per thread) against the plain sums
