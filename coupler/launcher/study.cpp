@@ -84,6 +84,18 @@ StudyAxis read_axis(const TomlSection& s) {
   return axis;
 }
 
+/// The [NAME] tables of `table_of.resolution` into `out`; a name defined twice is an error.
+void read_resolutions(const TomlSection& table_of, std::map<std::string, toml::table>& out) {
+  for (auto&& [k, v] : table_of.raw_table("resolution")) {
+    if (!v.is_table()) {
+      table_of.fail("resolution", fmt::format("'{}': expected a table of scene keys", k.str()));
+    }
+    if (!out.emplace(std::string(k.str()), *v.as_table()).second) {
+      table_of.fail("resolution", fmt::format("'{}': defined twice", k.str()));
+    }
+  }
+}
+
 }  // namespace
 
 Study load_study(const std::string& path) {
@@ -121,13 +133,16 @@ Study load_study(const std::string& path) {
   if (s.axes.empty()) {
     st.fail("axis", "expected at least one [[study.axis]]");
   }
-  if (st.has("resolution")) {
-    for (auto&& [k, v] : st.raw_table("resolution")) {
-      if (!v.is_table()) {
-        st.fail("resolution", fmt::format("'{}': expected a table of scene keys", k.str()));
-      }
-      s.resolutions.emplace(std::string(k.str()), *v.as_table());
+  if (st.has("resolution")) read_resolutions(st, s.resolutions);
+  if (st.has("resolutions")) {  // a file of [resolution.NAME] tables shared by study files
+    const fs::path shared = here / st.string("resolutions");
+    if (!fs::exists(shared)) {
+      st.fail("resolutions", fmt::format("{}: no such file", shared.string()));
     }
+    auto settings = TomlDocument::load(shared.string());
+    const TomlSection root_of_settings = TomlSection::root(settings);
+    read_resolutions(root_of_settings, s.resolutions);
+    settings->reject_unknown();
   }
   s.default_resolution = st.string("default_resolution", "");
   if (!s.default_resolution.empty() && s.resolutions.count(s.default_resolution) == 0) {

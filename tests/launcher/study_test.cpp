@@ -76,6 +76,24 @@ TEST_F(StudyFile, RunsAreTheProductOfTheAxesWithTheirKeysSet) {
   EXPECT_EQ(back, r.scene);
 }
 
+TEST_F(StudyFile, ResolutionsComeAlsoFromASharedFile) {
+  std::ofstream(dir_ / "r.toml") << "[resolution.fast]\n\"drive.reynolds\" = 0.5\n";
+  const auto study =
+      dld::coupler::load_study(write("resolutions = \"r.toml\"\n" + std::string(kTwoAxes)));
+  EXPECT_DOUBLE_EQ(*study.runs("fast")[0].scene.at_path("drive.reynolds").value<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(*study.runs("coarse")[0].scene.at_path("lattice.dx_um").value<double>(), 0.8);
+  std::ofstream(dir_ / "r.toml") << "[resolution.coarse]\n\"drive.reynolds\" = 0.5\n";
+  EXPECT_NE(
+      error("resolutions = \"r.toml\"\n" + std::string(kTwoAxes)).find("'coarse': defined twice"),
+      std::string::npos);
+  std::ofstream(dir_ / "r.toml") << "[resolutions.fast]\n\"drive.reynolds\" = 0.5\n";
+  EXPECT_NE(error("resolutions = \"r.toml\"\n" + std::string(kTwoAxes)).find("r.toml"),
+            std::string::npos);
+  EXPECT_NE(error("resolutions = \"none.toml\"\n" + std::string(kTwoAxes))
+                .find("none.toml: no such file"),
+            std::string::npos);
+}
+
 TEST_F(StudyFile, MissingKeyIsNamed) {
   EXPECT_NE(error("[[study.axis]]\nvalues = [1.0]\n[study.axis.set]\n\"a.b\" = [1]\n")
                 .find("study.axis[0].name': missing"),
