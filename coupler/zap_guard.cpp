@@ -40,7 +40,7 @@ std::string handshake_failure(std::uint16_t event, std::uint32_t value) {
     return "its CURVE hello does not decrypt (it uses another server key)";
   if (event == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL)
     return fmt::format("the CURVE handshake failed (ZMTP protocol error {:#x})", value);
-  return "the handshake failed";
+  return "the handshake failed (ZeroMQ gives no detail)";
 }
 
 }  // namespace
