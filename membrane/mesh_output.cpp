@@ -21,8 +21,9 @@ std::string mesh_xdmf(const std::string& h5_name, std::int64_t nodes, std::int64
       "<Grid Name=\"cells\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
   const std::size_t s = samples.size();
   for (std::size_t i = 0; i < s; ++i) {
-    // Every sample shares the faces; its nodes are slab i of positions (start i 0 0, stride 1 1 1,
-    // count 1 N 3). Each grid names its own data, so ParaView reads one sample at a time.
+    // Every sample shares the faces; its nodes are sample/i, a view of slab i of positions (an
+    // HDF5 virtual dataset: ParaView's default XDMF 3 reader reads no hyperslabs). Each grid names
+    // its own data, so ParaView reads one sample at a time.
     x += fmt::format("<Grid Name=\"step {}\" GridType=\"Uniform\">\n", samples[i].step);
     x += fmt::format("<Time Value=\"{:.17g}\"/>\n", samples[i].time_s);
     x += fmt::format(
@@ -32,11 +33,9 @@ std::string mesh_xdmf(const std::string& h5_name, std::int64_t nodes, std::int64
         faces, h5);
     x += fmt::format(
         "<Geometry GeometryType=\"XYZ\">\n"
-        "<DataItem ItemType=\"HyperSlab\" Type=\"HyperSlab\" Dimensions=\"{0} 3\">\n"
-        "<DataItem Dimensions=\"3 3\" Format=\"XML\">{1} 0 0 1 1 1 1 {0} 3</DataItem>\n"
-        "<DataItem Dimensions=\"{2} {0} 3\" NumberType=\"Float\" Precision=\"8\" "
-        "Format=\"HDF\">{3}/positions</DataItem>\n</DataItem>\n</Geometry>\n",
-        nodes, i, s, h5);
+        "<DataItem Dimensions=\"{0} 3\" NumberType=\"Float\" Precision=\"8\" "
+        "Format=\"HDF\">{1}/sample/{2}</DataItem>\n</Geometry>\n",
+        nodes, h5, i);
     x += fmt::format(
         "<Attribute Name=\"cell\" AttributeType=\"Scalar\" Center=\"Node\">\n"
         "<DataItem Dimensions=\"{}\" NumberType=\"Int\" Precision=\"4\" "
@@ -71,8 +70,11 @@ MeshOutput::MeshOutput(H5File& file, const TriMesh& reference, int cell_count, i
     // faces.
     const auto steps = file_.read(kGroup + "/steps");
     const auto times = file_.read(kGroup + "/time_s");
-    for (std::size_t i = 0; i < steps.size(); ++i)
+    for (std::size_t i = 0; i < steps.size(); ++i) {
       samples_.push_back({static_cast<std::int64_t>(steps[i]), times[i]});
+      const std::string view = kGroup + "/sample/" + std::to_string(i);
+      if (!file_.exists(view)) file_.view_slab(view, kGroup + "/positions", i);  // older files
+    }
     write_xdmf();  // the previous run's may name samples after the checkpoint
     return;
   }
@@ -106,6 +108,8 @@ void MeshOutput::append(std::int64_t step, const Points& positions_um) {
   // Eigen's 3 x N column-major layout is N x 3 row-major: x y z of node 0, then node 1, ...
   file_.append(kGroup + "/positions", positions_um.data(), 1,
                {static_cast<std::uint64_t>(nodes_), 3});
+  file_.view_slab(kGroup + "/sample/" + std::to_string(samples_.size()), kGroup + "/positions",
+                  samples_.size());
   const double s = static_cast<double>(step), t = static_cast<double>(step) * dt_s_;
   file_.append(kGroup + "/steps", &s, 1, {});
   file_.append(kGroup + "/time_s", &t, 1, {});
@@ -131,6 +135,8 @@ void keep_mesh_samples_until(H5File& file, std::int64_t step) {
   std::uint64_t keep = 0;
   while (keep < steps.size() && steps[keep] <= static_cast<double>(step)) ++keep;
   for (const char* d : {"/positions", "/steps", "/time_s"}) file.resize(kGroup + d, keep);
+  for (std::uint64_t i = keep; i < steps.size(); ++i)
+    file.remove(kGroup + "/sample/" + std::to_string(i));
 }
 
 }  // namespace dld::membrane

@@ -7,6 +7,8 @@
 //                          k n .. k n + n - 1), written once
 //   /cells/mesh/cell       N int32, the scene's index of each node's cell (to colour by cell)
 //   /cells/mesh/positions  S x N x 3 [um], one slab per sample, extendible
+//   /cells/mesh/sample/i   N x 3, a view of slab i of positions (HDF5 virtual dataset, no copy),
+//                          what the XDMF names: ParaView's XDMF 3 reader takes whole datasets
 //   /cells/mesh/steps, /cells/mesh/time_s   S, the step and time of each sample
 #pragma once
 #include <cstdint>

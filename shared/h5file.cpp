@@ -252,6 +252,36 @@ void H5File::resize(const std::string& name, std::uint64_t rows) {
   check(H5Dset_extent(set.id, d.data()), path_, "resizing " + name);
 }
 
+void H5File::view_slab(const std::string& name, const std::string& source, std::uint64_t index) {
+  Id set{checked_id(H5Dopen2(id_, source.c_str(), H5P_DEFAULT), path_, "opening " + source),
+         H5Dclose};
+  Id src_space{H5Dget_space(set.id), H5Sclose};
+  std::vector<hsize_t> d(static_cast<std::size_t>(H5Sget_simple_extent_ndims(src_space.id)));
+  H5Sget_simple_extent_dims(src_space.id, d.data(), nullptr);
+  std::vector<hsize_t> start(d.size(), 0), count = d;
+  start[0] = index;
+  count[0] = 1;
+  check(H5Sselect_hyperslab(src_space.id, H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                            nullptr),
+        path_, "selecting slab of " + source);
+  Id view_space{checked_id(H5Screate_simple(static_cast<int>(d.size()) - 1, d.data() + 1, nullptr),
+                           path_, "a dataspace for " + name),
+                H5Sclose};
+  Id dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+  check(H5Pset_virtual(dcpl.id, view_space.id, ".", source.c_str(), src_space.id), path_,
+        "mapping " + name);
+  make_parents(name);
+  Id view{checked_id(H5Dcreate2(id_, name.c_str(), H5T_IEEE_F64LE, view_space.id, H5P_DEFAULT,
+                                dcpl.id, H5P_DEFAULT),
+                     path_, "creating " + name),
+          H5Dclose};
+}
+
+void H5File::remove(const std::string& name) {
+  if (!exists(name)) return;
+  check(H5Ldelete(id_, name.c_str(), H5P_DEFAULT), path_, "removing " + name);
+}
+
 void H5File::flush() {
   H5Fflush(id_, H5F_SCOPE_GLOBAL);
 }

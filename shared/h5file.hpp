@@ -45,6 +45,12 @@ class H5File {
               const std::vector<std::uint64_t>& slab);
   /// Shortens (or lengthens) an extendible dataset along its first dimension to `rows`.
   void resize(const std::string& name, std::uint64_t rows);
+  /// `name`: a virtual dataset (HDF5 VDS, no copy of the data) showing slab `index` of the n-D
+  /// dataset `source` of this file (its shape without the first dimension), for readers that
+  /// take whole datasets only (ParaView's XDMF 3 reader cannot select a hyperslab).
+  void view_slab(const std::string& name, const std::string& source, std::uint64_t index);
+  /// Removes a dataset or group (its link); absent is not an error.
+  void remove(const std::string& name);
   void flush();
   /// Closes the file now and reports a failure to write it out (the destructor cannot): a file
   /// that is renamed into place afterwards must be complete.

@@ -3,7 +3,8 @@
 
 Usage: check_xdmf.py FILE.xmf. Parses the XML, and for every grid of the temporal collection
 checks that the triangles and the node positions it names exist in the HDF5 file beside it with
-the dimensions it states, that the hyperslab selects one whole sample inside the positions, and
+the dimensions it states, that each sample's geometry (a view, /cells/mesh/sample/i) is slab i of
+the positions, and
 that the faces index existing nodes. Prints "grids N" and one "grid STEP TIME SLAB" line each;
 exits non-zero naming the first thing that is wrong. Needs h5py (Debian's python3-h5py).
 """
@@ -60,20 +61,19 @@ def main(path):
         geo = g.find("Geometry")
         if geo.get("GeometryType") != "XYZ":
             fail(f"geometry {geo.get('GeometryType')}")
-        slab = geo.find("DataItem")
-        if slab.get("ItemType") != "HyperSlab":
-            fail("geometry is not a hyperslab")
-        select, positions = slab.findall("DataItem")
-        sel = [int(v) for v in select.text.split()]
-        start, stride, count = sel[0:3], sel[3:6], sel[6:9]
-        data = hdf(positions, folder)
-        nodes = data.shape[1]
-        if count != [1, nodes, 3] or stride != [1, 1, 1] or start[1:] != [0, 0]:
-            fail(f"hyperslab {sel} does not select one whole sample of {nodes} nodes")
-        if not 0 <= start[0] < data.shape[0]:
-            fail(f"hyperslab starts at sample {start[0]} of {data.shape[0]}")
-        if dims(slab) != [nodes, 3]:
-            fail(f"hyperslab Dimensions {dims(slab)}: expected one sample, [{nodes}, 3]")
+        item = geo.find("DataItem")
+        view = hdf(item, folder)  # /cells/mesh/sample/i: a view of slab i of the positions
+        name, path = item.text.strip().split(":", 1)
+        positions = h5py.File(os.path.join(folder, name), "r")["/cells/mesh/positions"]
+        nodes = positions.shape[1]
+        index = int(path.rsplit("/", 1)[1])
+        if not 0 <= index < positions.shape[0]:
+            fail(f"{path} names sample {index} of {positions.shape[0]}")
+        if dims(item) != [nodes, 3]:
+            fail(f"geometry Dimensions {dims(item)}: expected one sample, [{nodes}, 3]")
+        if not (view[()] == positions[index]).all():
+            fail(f"{path} differs from slab {index} of the positions")
+        start = [index]
         if faces[()].min() < 0 or faces[()].max() >= nodes:
             fail("faces index nodes that do not exist")
         for a in g.findall("Attribute"):
