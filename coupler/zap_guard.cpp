@@ -40,7 +40,9 @@ std::string handshake_failure(std::uint16_t event, std::uint32_t value) {
     return "its CURVE hello does not decrypt (it uses another server key)";
   if (event == ZMQ_EVENT_HANDSHAKE_FAILED_PROTOCOL)
     return fmt::format("the CURVE handshake failed (ZMTP protocol error {:#x})", value);
-  return "the handshake failed (ZeroMQ gives no detail)";
+  // The peer closed the connection mid-handshake: typically a plain client that saw the CURVE
+  // greeting first and gave up (the two sides detect the mismatch in either order).
+  return "it left during the handshake (no CURVE keys on its side, or it gave up)";
 }
 
 }  // namespace

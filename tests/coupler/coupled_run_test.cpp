@@ -293,7 +293,7 @@ void expect_refused_then_run(const std::function<Options(const Party& server)>& 
 
 TEST(Curve, KeylessClientIsRefusedAndNamed) {
   if (!zmq_has("curve")) GTEST_SKIP() << "libzmq built without CURVE";
-  expect_refused_then_run([](const Party&) { return test_options(); }, "offered no CURVE keys");
+  expect_refused_then_run([](const Party&) { return test_options(); }, "no CURVE keys");
 }
 
 TEST(Curve, MadeUpKeyPairIsRefusedAndNamed) {
