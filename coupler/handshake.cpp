@@ -21,29 +21,82 @@ T get(const std::byte*& at) {
   return value;
 }
 
-bool same(double a, double b) {
-  return a == b || std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b));
+bool same(double a, double b, double tolerance) {
+  return a == b || std::abs(a - b) <= tolerance * std::max(std::abs(a), std::abs(b));
+}
+
+/// Bytes of the named values in a record: per value a u32 name length, the name, value, tolerance.
+std::size_t values_bytes(const std::vector<AgreedValue>& values) {
+  std::size_t n = 0;
+  for (const AgreedValue& v : values) n += 4 + v.name.size() + 16;
+  return n;
+}
+
+/// Printable ASCII only: names go into every message about a field or side, and a newline or NUL
+/// in one would cut or forge those lines.
+void check_printable(const std::string& text, const char* field, const Link& link,
+                     std::uint64_t step) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 || c > 0x7e) {
+      throw_malformed(link, step, field,
+                      fmt::format("byte {} is 0x{:02x}: expected printable ASCII", i, c));
+    }
+  }
+}
+
+/// The named values block of a record (`bytes` long) at `at`, checked: names printable and at
+/// most kMaxValueName bytes, values finite, tolerances in [0, 1).
+std::vector<AgreedValue> decode_values(const std::byte*& at, std::uint32_t count, std::size_t bytes,
+                                       const Link& link, std::uint64_t step) {
+  std::vector<AgreedValue> values;
+  const std::byte* const end = at + bytes;
+  for (std::uint32_t k = 0; k < count; ++k) {
+    if (end - at < 20) throw_malformed(link, step, "agreed_values", "shorter than its count");
+    const auto name_bytes = get<std::uint32_t>(at);
+    if (name_bytes == 0 || name_bytes > kMaxValueName ||
+        end - at < 16 + std::ptrdiff_t(name_bytes)) {
+      throw_malformed(link, step, fmt::format("agreed_values[{}]", k),
+                      fmt::format("name of {} bytes: expected 1..{} within the record", name_bytes,
+                                  kMaxValueName));
+    }
+    AgreedValue v;
+    v.name.assign(reinterpret_cast<const char*>(at), name_bytes);
+    at += name_bytes;
+    check_printable(v.name, "agreed_values", link, step);
+    v.value = get<double>(at);
+    v.tolerance = get<double>(at);
+    if (!std::isfinite(v.value) || !(v.tolerance >= 0 && v.tolerance < 1)) {
+      throw_malformed(link, step, v.name,
+                      fmt::format("value {} tolerance {}: expected a finite value and a "
+                                  "tolerance in [0, 1)",
+                                  v.value, v.tolerance));
+    }
+    values.push_back(std::move(v));
+  }
+  if (at != end) throw_malformed(link, step, "agreed_values", "longer than its count");
+  return values;
 }
 
 }  // namespace
 
 zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
   const std::size_t cells = r.cell_nodes.size();
-  const std::size_t bytes = kHandshakeFixedBytes + r.scene.scene_hash.size() + r.side_name.size() +
-                            8 * cells + r.shared_memory.size() + 4 * r.faces.size();
+  const std::size_t value_bytes = values_bytes(r.scene.agreed);
+  const std::size_t bytes = kHandshakeFixedBytes + value_bytes + r.scene.scene_hash.size() +
+                            r.side_name.size() + 8 * cells + r.shared_memory.size() +
+                            4 * r.faces.size();
   zmq::message_t frame = make_frame(type, r.scene.start_step, bytes);
   std::byte* at = payload(frame);
-  for (double v : {r.scene.dx_m, r.scene.dt_s, r.scene.density_kg_m3, r.scene.lambda_m,
-                   r.scene.radius_m, r.scene.depth_m, r.scene.shift_m}) {
-    put(at, v);
-  }
   put(at, r.scene.start_step);
   for (std::uint32_t v :
        {r.scene.total_cells, r.peer_index, r.peer_count, r.first_cell,
         static_cast<std::uint32_t>(cells), static_cast<std::uint32_t>(r.scene.scene_hash.size()),
         static_cast<std::uint32_t>(r.side_name.size()),
         static_cast<std::uint32_t>(r.shared_memory.size()),
-        static_cast<std::uint32_t>(r.faces.size() / 3)}) {
+        static_cast<std::uint32_t>(r.faces.size() / 3),
+        static_cast<std::uint32_t>(r.scene.agreed.size()),
+        static_cast<std::uint32_t>(value_bytes)}) {
     put(at, v);
   }
   auto put_bytes = [&](const void* data, std::size_t n) {
@@ -52,6 +105,12 @@ zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
     }
     at += n;
   };
+  for (const AgreedValue& v : r.scene.agreed) {
+    put(at, static_cast<std::uint32_t>(v.name.size()));
+    put_bytes(v.name.data(), v.name.size());
+    put(at, v.value);
+    put(at, v.tolerance);
+  }
   put_bytes(r.scene.scene_hash.data(), r.scene.scene_hash.size());
   put_bytes(r.side_name.data(), r.side_name.size());
   put_bytes(r.cell_nodes.data(), 4 * cells);
@@ -75,13 +134,6 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   }
   const std::byte* at = payload(frame);
   Handshake r;
-  r.scene.dx_m = get<double>(at);
-  r.scene.dt_s = get<double>(at);
-  r.scene.density_kg_m3 = get<double>(at);
-  r.scene.lambda_m = get<double>(at);
-  r.scene.radius_m = get<double>(at);
-  r.scene.depth_m = get<double>(at);
-  r.scene.shift_m = get<double>(at);
   r.scene.start_step = get<std::uint64_t>(at);
   r.scene.total_cells = get<std::uint32_t>(at);
   r.peer_index = get<std::uint32_t>(at);
@@ -92,6 +144,13 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   const auto name_bytes = get<std::uint32_t>(at);
   const auto shm_bytes = get<std::uint32_t>(at);
   const auto face_count = get<std::uint32_t>(at);
+  const auto value_count = get<std::uint32_t>(at);
+  const auto value_bytes = get<std::uint32_t>(at);
+  if (value_count > kMaxAgreedValues || value_bytes > kMaxAgreedValues * (20 + kMaxValueName)) {
+    throw_malformed(link, header.step, "agreed_values",
+                    fmt::format("{} values in {} bytes: at most {} values of names up to {} bytes",
+                                value_count, value_bytes, kMaxAgreedValues, kMaxValueName));
+  }
   for (const auto& [field, bytes] :
        {std::pair{"scene_hash", hash_bytes}, std::pair{"side_name", name_bytes},
         std::pair{"shared_memory", shm_bytes}}) {
@@ -99,27 +158,20 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
       throw_malformed(link, header.step, field, fmt::format("longer than {} bytes", kMaxNameBytes));
     }
   }
-  const std::size_t expected = kHandshakeFixedBytes + hash_bytes + name_bytes + 8ull * cells +
-                               shm_bytes + 12ull * face_count;
+  const std::size_t expected = kHandshakeFixedBytes + value_bytes + hash_bytes + name_bytes +
+                               8ull * cells + shm_bytes + 12ull * face_count;
   if (header.payload_bytes != expected) {
     throw_malformed(
         link, header.step, "payload_bytes",
         fmt::format("{} record with {} cells and {} faces needs {} bytes, got {}",
                     to_string(header.type), cells, face_count, expected, header.payload_bytes));
   }
+  r.scene.agreed = decode_values(at, value_count, value_bytes, link, header.step);
   r.scene.scene_hash.assign(reinterpret_cast<const char*>(at), hash_bytes);
   at += hash_bytes;
   r.side_name.assign(reinterpret_cast<const char*>(at), name_bytes);
   at += name_bytes;
-  // The name goes into every message about this side: printable ASCII only, or a newline or NUL
-  // in it would cut or forge those lines.
-  for (std::size_t i = 0; i < r.side_name.size(); ++i) {
-    const auto c = static_cast<unsigned char>(r.side_name[i]);
-    if (c < 0x20 || c > 0x7e) {
-      throw_malformed(link, header.step, "side_name",
-                      fmt::format("byte {} is 0x{:02x}: expected printable ASCII", i, c));
-    }
-  }
+  check_printable(r.side_name, "side_name", link, header.step);
   r.cell_nodes.resize(cells);
   std::memcpy(r.cell_nodes.data(), at, 4ull * cells);
   at += 4ull * cells;
@@ -165,19 +217,17 @@ std::optional<std::string> scene_mismatch(const SceneIdentity& f, const SceneIde
     return mismatch("scene_hash", fmt::format("'{}'", f.scene_hash), label,
                     fmt::format("'{}'", m.scene_hash));
   }
-  const std::pair<const char*, std::pair<double, double>> doubles[] = {
-      {"dx_m", {f.dx_m, m.dx_m}},
-      {"dt_s", {f.dt_s, m.dt_s}},
-      {"density_kg_m3", {f.density_kg_m3, m.density_kg_m3}},
-      {"lambda_m", {f.lambda_m, m.lambda_m}},
-      {"radius_m", {f.radius_m, m.radius_m}},
-      {"depth_m", {f.depth_m, m.depth_m}},
-      {"shift_m", {f.shift_m, m.shift_m}},
-  };
-  for (const auto& [field, values] : doubles) {
-    if (!same(values.first, values.second)) {
-      return mismatch(field, values.first, label, values.second);
+  // Each side's values by name, in the fluid's order first: a value only one side hands over is
+  // a mismatch too (the programs were built to agree on different things).
+  for (const AgreedValue& a : f.agreed) {
+    const AgreedValue* b = m.find(a.name);
+    if (b == nullptr) return mismatch(a.name, a.value, label, "none");
+    if (!same(a.value, b->value, std::max(a.tolerance, b->tolerance))) {
+      return mismatch(a.name, a.value, label, b->value);
     }
+  }
+  for (const AgreedValue& b : m.agreed) {
+    if (f.find(b.name) == nullptr) return mismatch(b.name, "none", label, b.value);
   }
   if (f.start_step != m.start_step) {
     return mismatch("start_step", f.start_step, label, m.start_step);

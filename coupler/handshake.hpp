@@ -15,19 +15,27 @@
 
 namespace dld::coupler {
 
-/// What both sides must agree on. The coupler carries these as plain numbers and compares them;
-/// it never interprets them. Doubles agree when they differ by at most 1e-12 relative.
+/// One value both sides must agree on, named by the program that hands it over (e.g. "dt_s").
+/// The coupler compares values of the same name and knows nothing of what they mean.
+struct AgreedValue {
+  std::string name;      ///< printable ASCII, at most kMaxValueName bytes
+  double value = 0;      ///< finite
+  double tolerance = 0;  ///< relative: the two sides agree when |a - b| <= tol max(|a|, |b|)
+};
+
+/// What both sides must agree on: the coupler's own counts and the programs' named values.
 struct SceneIdentity {
-  std::string scene_hash;         ///< identity of the resolved scene (e.g. a hash of its TOML)
-  double dx_m = 0;                ///< lattice spacing [m]
-  double dt_s = 0;                ///< time step [s]
-  double density_kg_m3 = 0;       ///< fluid density [kg/m^3]
-  double lambda_m = 0;            ///< pillar centre-to-centre distance [m]
-  double radius_m = 0;            ///< pillar radius [m]
-  double depth_m = 0;             ///< channel depth [m]
-  double shift_m = 0;             ///< row shift per pillar [m]
-  std::uint64_t start_step = 0;   ///< number of the first exchanged step (non-zero on restart)
-  std::uint32_t total_cells = 0;  ///< cells over all membrane processes
+  std::string scene_hash;           ///< identity of the resolved scene (e.g. a hash of its TOML)
+  std::vector<AgreedValue> agreed;  ///< the programs' values (units, geometry, ...), in order
+  std::uint64_t start_step = 0;     ///< number of the first exchanged step (non-zero on restart)
+  std::uint32_t total_cells = 0;    ///< cells over all membrane processes
+
+  /// The value named `name`, or nothing.
+  const AgreedValue* find(std::string_view name) const {
+    for (const AgreedValue& v : agreed)
+      if (v.name == name) return &v;
+    return nullptr;
+  }
 };
 
 /// One side's handshake record. For a hello, the membrane's own cells; for a welcome, what the
@@ -49,8 +57,11 @@ struct Handshake {
   std::string shared_memory;
 };
 
-inline constexpr std::size_t kHandshakeFixedBytes = 100;
+inline constexpr std::size_t kHandshakeFixedBytes = 52;
 inline constexpr std::size_t kMaxNameBytes = 256;
+/// Named values of one record at most, and bytes of one name at most.
+inline constexpr std::uint32_t kMaxAgreedValues = 64;
+inline constexpr std::size_t kMaxValueName = 64;
 /// Nodes of one cell at most: a 2000-face cell has 1002; this leaves room for any mesh.
 inline constexpr std::uint32_t kMaxCellNodes = 1'000'000;
 

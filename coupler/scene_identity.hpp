@@ -12,13 +12,16 @@ inline SceneIdentity scene_identity(const Scene& scene, std::uint32_t total_cell
   const LatticeUnits u = scene.units();
   SceneIdentity id;
   id.scene_hash = scene.hash;
-  id.dx_m = u.dx_m();
-  id.dt_s = u.dt_s();
-  id.density_kg_m3 = u.rho_kg_m3();
-  id.lambda_m = scene.cell_um.lambda * 1e-6;
-  id.radius_m = scene.cell_um.radius * 1e-6;
-  id.depth_m = scene.cell_um.depth * 1e-6;
-  id.shift_m = scene.cell_um.shift * 1e-6;
+  // Units and geometry, named for the messages ("handshake: field 'dt_s': fluid has ..."); the
+  // coupler compares them by name and knows nothing of what they mean.
+  constexpr double tolerance = 1e-12;
+  id.agreed = {{"dx_m", u.dx_m(), tolerance},
+               {"dt_s", u.dt_s(), tolerance},
+               {"density_kg_m3", u.rho_kg_m3(), tolerance},
+               {"lambda_m", scene.cell_um.lambda * 1e-6, tolerance},
+               {"radius_m", scene.cell_um.radius * 1e-6, tolerance},
+               {"depth_m", scene.cell_um.depth * 1e-6, tolerance},
+               {"shift_m", scene.cell_um.shift * 1e-6, tolerance}};
   id.total_cells = total_cells;
   return id;
 }

@@ -26,9 +26,7 @@ constexpr std::uint32_t kNodesPerCell = 1002;
 SceneIdentity scene(std::uint32_t cells) {
   SceneIdentity s;
   s.scene_hash = "bench";
-  s.dx_m = 0.4e-6;
-  s.dt_s = 2e-8;
-  s.density_kg_m3 = 1025;
+  s.agreed = {{"dx_m", 0.4e-6, 1e-12}, {"dt_s", 2e-8, 1e-12}, {"density_kg_m3", 1025, 1e-12}};
   s.total_cells = cells;
   return s;
 }

@@ -31,16 +31,19 @@ using namespace std::chrono_literals;
 inline SceneIdentity test_scene(std::uint32_t cells) {
   SceneIdentity s;
   s.scene_hash = "sha256:0123456789abcdef";
-  s.dx_m = 0.4e-6;
-  s.dt_s = 2.1e-8;
-  s.density_kg_m3 = 1025.0;
-  s.lambda_m = 32e-6;
-  s.radius_m = 8e-6;
-  s.depth_m = 4.4e-6;
-  s.shift_m = 3.2e-6;
+  s.agreed = {{"dx_m", 0.4e-6, 1e-12},          {"dt_s", 2.1e-8, 1e-12},
+              {"density_kg_m3", 1025.0, 1e-12}, {"lambda_m", 32e-6, 1e-12},
+              {"radius_m", 8e-6, 1e-12},        {"depth_m", 4.4e-6, 1e-12},
+              {"shift_m", 3.2e-6, 1e-12}};
   s.start_step = 0;
   s.total_cells = cells;
   return s;
+}
+
+/// Sets the agreed value `name` of a scene identity (it must be there).
+inline void set_value(SceneIdentity& s, const std::string& name, double value) {
+  for (AgreedValue& v : s.agreed)
+    if (v.name == name) v.value = value;
 }
 
 /// Short timeouts: a test that waits for a timeout waits well under a second.

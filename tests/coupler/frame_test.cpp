@@ -32,7 +32,7 @@ TEST(Frame, HeaderLayoutIsLittleEndianAsDocumented) {
   ASSERT_EQ(frame.size(), kHeaderBytes);
   const auto* b = static_cast<const unsigned char*>(frame.data());
   EXPECT_EQ(std::string(reinterpret_cast<const char*>(b), 4), "DLDC");
-  EXPECT_EQ(b[4], 2);  // version, low byte first
+  EXPECT_EQ(b[4], 3);  // version, low byte first
   EXPECT_EQ(b[5], 0);
   EXPECT_EQ(b[6], 5);  // type shutdown
   EXPECT_EQ(b[8], 0x08);
@@ -70,7 +70,7 @@ TEST(Frame, WrongMagicVersionTypeAndLengthAreNamed) {
             std::string::npos);
   EXPECT_NE(error_of([&] {
               read_header(corrupt(4, 9), kLink, 1);
-            }).find("field 'version': expected 2, got 9"),
+            }).find("field 'version': expected 3, got 9"),
             std::string::npos);
   EXPECT_NE(error_of([&] {
               read_header(corrupt(6, 77), kLink, 1);
@@ -97,7 +97,7 @@ TEST(Frame, ErrorTextStaysOneLine) {
 TEST(Handshake, RecordRoundTrips) {
   Handshake h;
   h.scene.scene_hash = "abc";
-  h.scene.dt_s = 2.1e-8;
+  h.scene.agreed = {{"dt_s", 2.1e-8, 1e-12}, {"a name of a value", -3.5, 0.25}};
   h.scene.start_step = 99;
   h.scene.total_cells = 17;
   h.side_name = "membrane-3";
@@ -109,7 +109,12 @@ TEST(Handshake, RecordRoundTrips) {
   const FrameHeader header = read_header(frame, kLink, 99);
   const Handshake back = decode_handshake(frame, header, kLink);
   EXPECT_EQ(back.scene.scene_hash, "abc");
-  EXPECT_EQ(back.scene.dt_s, 2.1e-8);
+  ASSERT_EQ(back.scene.agreed.size(), 2u);
+  EXPECT_EQ(back.scene.agreed[0].name, "dt_s");
+  EXPECT_EQ(back.scene.agreed[0].value, 2.1e-8);
+  EXPECT_EQ(back.scene.agreed[1].name, "a name of a value");
+  EXPECT_EQ(back.scene.agreed[1].value, -3.5);
+  EXPECT_EQ(back.scene.agreed[1].tolerance, 0.25);
   EXPECT_EQ(back.scene.start_step, 99u);
   EXPECT_EQ(back.side_name, "membrane-3");
   EXPECT_EQ(back.first_cell, 12u);
@@ -154,9 +159,12 @@ TEST(Handshake, SurfaceIndexBeyondItsCellIsMalformed) {
 TEST(Handshake, SurfaceCountsThatDisagreeAreMalformed) {
   const Handshake h = two_tetrahedra();
   zmq::message_t frame = encode_handshake(FrameType::hello, h);
-  // cell_faces[1] lies after the 100 fixed bytes, the name (10), cell_nodes (8) and cell_faces[0].
+  // cell_faces[1] lies after the fixed bytes, the name (10), cell_nodes (8) and cell_faces[0]
+  // (no named values, no scene hash, no shared memory here).
   const std::uint32_t three = 3;
-  std::memcpy(static_cast<std::byte*>(frame.data()) + kHeaderBytes + 100 + 10 + 8 + 4, &three, 4);
+  std::memcpy(static_cast<std::byte*>(frame.data()) + kHeaderBytes + kHandshakeFixedBytes + 10 +
+                  8 + 4,
+              &three, 4);
   try {
     decode_handshake(frame, read_header(frame, kLink, 0), kLink);
     FAIL() << "accepted";
@@ -171,12 +179,12 @@ TEST(Handshake, SurfaceCountsThatDisagreeAreMalformed) {
 
 TEST(Handshake, MismatchMessageNamesFieldAndBothValues) {
   SceneIdentity fluid;
-  fluid.dt_s = 2.1e-8;
+  fluid.agreed = {{"dt_s", 2.1e-8, 1e-12}};
   SceneIdentity membrane = fluid;
-  membrane.dt_s = 2.2e-8;
+  membrane.agreed[0].value = 2.2e-8;
   EXPECT_EQ(scene_mismatch(fluid, membrane, "membrane 'membrane-0'").value(),
             "handshake: field 'dt_s': fluid has 2.1e-08, membrane 'membrane-0' has 2.2e-08");
-  membrane.dt_s = 2.1e-8 * (1 + 1e-14);  // round-off of another program's arithmetic is accepted
+  membrane.agreed[0].value = 2.1e-8 * (1 + 1e-14);  // another program's round-off is accepted
   EXPECT_FALSE(scene_mismatch(fluid, membrane, "m").has_value());
 }
 
@@ -248,3 +256,43 @@ TEST(FramePool, NeverHoldsMoreThanAFewBuffers) {
 
 }  // namespace
 }  // namespace dld::coupler
+
+namespace dld::coupler::test {
+namespace {
+
+std::string decode_error(const SceneIdentity& scene) {
+  Handshake h;
+  h.scene = scene;
+  h.side_name = "m";
+  const zmq::message_t frame = encode_handshake(FrameType::hello, h);
+  try {
+    decode_handshake(frame, read_header(frame, kLink, 0), kLink);
+  } catch (const CouplerError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+TEST(Handshake, BadAgreedValuesAreMalformed) {
+  SceneIdentity s;
+  s.agreed = {{"dt\ns", 1.0, 0.0}};
+  EXPECT_NE(decode_error(s).find("field 'agreed_values': byte 2 is 0x0a: expected printable ASCII"),
+            std::string::npos)
+      << decode_error(s);
+  s.agreed = {{"dt_s", std::nan(""), 0.0}};
+  EXPECT_NE(decode_error(s).find("field 'dt_s': value nan tolerance 0: expected a finite value"),
+            std::string::npos)
+      << decode_error(s);
+  s.agreed = {{"dt_s", 1.0, 2.0}};
+  EXPECT_NE(decode_error(s).find("a tolerance in [0, 1)"), std::string::npos) << decode_error(s);
+  s.agreed = {{std::string(65, 'a'), 1.0, 0.0}};
+  EXPECT_NE(decode_error(s).find("name of 65 bytes: expected 1..64"), std::string::npos)
+      << decode_error(s);
+  s.agreed.assign(65, {"x", 1.0, 0.0});
+  EXPECT_NE(decode_error(s).find("65 values in"), std::string::npos) << decode_error(s);
+  s.agreed = {{"dt_s", 1.0, 1e-12}};
+  EXPECT_EQ(decode_error(s), "accepted");
+}
+
+}  // namespace
+}  // namespace dld::coupler::test

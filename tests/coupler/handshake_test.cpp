@@ -64,20 +64,35 @@ INSTANTIATE_TEST_SUITE_P(
         Mismatch{"scene_hash", [](auto& m) { m.scene.scene_hash = "sha256:other"; },
                  "handshake: field 'scene_hash': fluid has 'sha256:0123456789abcdef', " + kM +
                      " has 'sha256:other'"},
-        Mismatch{"dx_m", [](auto& m) { m.scene.dx_m = 0.5e-6; },
+        Mismatch{"dx_m", [](auto& m) { set_value(m.scene, "dx_m", 0.5e-6); },
                  "field 'dx_m': fluid has 4e-07, " + kM + " has 5e-07"},
-        Mismatch{"dt_s", [](auto& m) { m.scene.dt_s = 2.2e-8; },
+        Mismatch{"dt_s", [](auto& m) { set_value(m.scene, "dt_s", 2.2e-8); },
                  "handshake: field 'dt_s': fluid has 2.1e-08, " + kM + " has 2.2e-08"},
-        Mismatch{"density_kg_m3", [](auto& m) { m.scene.density_kg_m3 = 1000; },
+        Mismatch{"density_kg_m3", [](auto& m) { set_value(m.scene, "density_kg_m3", 1000); },
                  "field 'density_kg_m3': fluid has 1025, " + kM + " has 1000"},
-        Mismatch{"lambda_m", [](auto& m) { m.scene.lambda_m = 30e-6; },
+        Mismatch{"lambda_m", [](auto& m) { set_value(m.scene, "lambda_m", 30e-6); },
                  "field 'lambda_m': fluid has 3.2e-05, " + kM + " has 3e-05"},
-        Mismatch{"radius_m", [](auto& m) { m.scene.radius_m = 7e-6; },
+        Mismatch{"radius_m", [](auto& m) { set_value(m.scene, "radius_m", 7e-6); },
                  "field 'radius_m': fluid has 8e-06, " + kM + " has 7e-06"},
-        Mismatch{"depth_m", [](auto& m) { m.scene.depth_m = 4e-6; },
+        Mismatch{"depth_m", [](auto& m) { set_value(m.scene, "depth_m", 4e-6); },
                  "field 'depth_m': fluid has 4.4e-06, " + kM + " has 4e-06"},
-        Mismatch{"shift_m", [](auto& m) { m.scene.shift_m = 3e-6; },
+        Mismatch{"shift_m", [](auto& m) { set_value(m.scene, "shift_m", 3e-6); },
                  "field 'shift_m': fluid has 3.2e-06, " + kM + " has 3e-06"},
+        Mismatch{"value_only_the_fluid_has", [](auto& m) { m.scene.agreed.pop_back(); },
+                 "field 'shift_m': fluid has 3.2e-06, " + kM + " has none"},
+        Mismatch{"value_only_the_membrane_has",
+                 [](auto& m) {
+                   m.scene.agreed.push_back({"viscosity_ratio", 5.0, 0.0});
+                 },
+                 "field 'viscosity_ratio': fluid has none, " + kM + " has 5"},
+        Mismatch{"within_the_tolerance_agrees_beyond_it_does_not",
+                 [](auto& m) {
+                   m.scene.agreed[0].value *= 1 + 1e-13;  // dx_m: within 1e-12, so agreed
+                   m.scene.agreed[1].tolerance = 0.01;    // dt_s: the wider of the two counts
+                   m.scene.agreed[1].value *= 1.005;
+                   m.scene.agreed[2].value *= 1.5;
+                 },
+                 "field 'density_kg_m3': fluid has 1025, " + kM + " has 1537.5"},
         Mismatch{"start_step", [](auto& m) { m.scene.start_step = 5; },
                  "field 'start_step': fluid has 0, " + kM + " has 5"},
         Mismatch{"total_cells", [](auto& m) { m.scene.total_cells = 3; },
@@ -104,14 +119,14 @@ TEST(Handshake, ProtocolVersionMismatchIsNamed) {
                   context);
   RawPeer raw(context, fluid.endpoints()[0], false);
   zmq::message_t hello = encode_handshake(FrameType::hello, hello_for(test_scene(1), {10}));
-  static_cast<std::uint8_t*>(hello.data())[4] = 3;  // a membrane speaking protocol version 3
+  static_cast<std::uint8_t*>(hello.data())[4] = 4;  // a membrane speaking protocol version 4
   raw.send(std::move(hello));
   try {
     fluid.initialize();
     FAIL() << "no error";
   } catch (const CouplerError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "fluid: handshake: field 'protocol_version': fluid has 2, membrane peer 0 has 3");
+              "fluid: handshake: field 'protocol_version': fluid has 3, membrane peer 0 has 4");
   }
   auto reply = raw.receive();
   ASSERT_TRUE(reply);
@@ -125,7 +140,7 @@ TEST(Handshake, MembraneChecksTheWelcomeToo) {
   MembraneSide m({test_scene(1), raw_fluid.endpoint(), "membrane-0", 0, 1, 0, {10}, test_options()},
                  context);
   Handshake welcome = hello_for(test_scene(1), {10}, "fluid");
-  welcome.scene.dt_s = 2.5e-8;
+  set_value(welcome.scene, "dt_s", 2.5e-8);
   raw_fluid.send(encode_handshake(FrameType::welcome, welcome));
   try {
     m.initialize();

@@ -13,10 +13,12 @@ import sys
 
 import zmq
 
-MAGIC, VERSION = b"DLDC", 2
+MAGIC, VERSION = b"DLDC", 3
 HELLO, WELCOME, STEP, VELOCITIES, SHUTDOWN, ERROR = 1, 2, 3, 4, 5, 6
 HEADER = struct.Struct("<4sHHQQ")  # magic, version, type, step, payload bytes: 24 bytes
-FIXED = struct.Struct("<7dQ9I")  # handshake record, fixed part: 100 bytes
+FIXED = struct.Struct("<Q11I")  # handshake record, fixed part: 52 bytes
+# The values both sides agree on, by name (docs/protocol.md, "Handshake record").
+NAMES = ["dx_m", "dt_s", "density_kg_m3", "lambda_m", "radius_m", "depth_m", "shift_m"]
 
 
 def frame(kind, step, payload=b""):
@@ -25,10 +27,12 @@ def frame(kind, step, payload=b""):
 
 def handshake(scene_hash, doubles, start_step, total_cells, name, index, count, first, cells):
     h, n = scene_hash.encode(), name.encode()
-    fixed = FIXED.pack(*doubles, start_step, total_cells, index, count, first, len(cells),
-                       len(h), len(n), 0, 0)  # no shared memory, no surfaces (faces)
+    values = b"".join(struct.pack("<I", len(k)) + k.encode() + struct.pack("<2d", v, 1e-12)
+                      for k, v in zip(NAMES, doubles))
+    fixed = FIXED.pack(start_step, total_cells, index, count, first, len(cells), len(h), len(n),
+                       0, 0, len(NAMES), len(values))  # no shared memory, no surfaces (faces)
     cell_faces = [0] * len(cells)
-    return (fixed + h + n + struct.pack(f"<{len(cells)}I", *cells)
+    return (fixed + values + h + n + struct.pack(f"<{len(cells)}I", *cells)
             + struct.pack(f"<{len(cells)}I", *cell_faces))
 
 

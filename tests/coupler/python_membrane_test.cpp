@@ -24,8 +24,9 @@ TEST(PythonMembrane, SpeaksTheDocumentedProtocol) {
   const std::string command = fmt::format(
       "/usr/bin/python3 {}/tests/coupler/python_membrane.py {} 3 4,5 {} {:.17g} {:.17g} {:.17g} "
       "{:.17g} {:.17g} {:.17g} {:.17g} > {} 2>&1",
-      DLD_SOURCE_DIR, fluid.endpoints()[0], s.scene_hash, s.dx_m, s.dt_s, s.density_kg_m3,
-      s.lambda_m, s.radius_m, s.depth_m, s.shift_m, log.string());
+      DLD_SOURCE_DIR, fluid.endpoints()[0], s.scene_hash, s.find("dx_m")->value,
+      s.find("dt_s")->value, s.find("density_kg_m3")->value, s.find("lambda_m")->value,
+      s.find("radius_m")->value, s.find("depth_m")->value, s.find("shift_m")->value, log.string());
   int status = -1;
   std::thread python([&] { status = std::system(command.c_str()); });
   int steps = 0;

@@ -75,18 +75,15 @@ std::string fluid_endpoint(Transport t, const SocketDir& dir) {
   return {};
 }
 
-/// Both sides agree on this identity; the box stands in for the DLD cell's fields.
+/// Both sides agree on this identity: the box's size and the capsule (lattice units).
 coupler::SceneIdentity identity(const CapsuleShearSetup& s) {
   coupler::SceneIdentity id;
   id.scene_hash = fmt::format("capsule-shear a={} box={}x{}x{} Ca={} Re={}", s.radius, s.nx, s.ny,
                               s.nz, s.capillary, s.reynolds);
-  id.dx_m = 1.0;  // lattice units
-  id.dt_s = 1.0;
-  id.density_kg_m3 = 1.0;
-  id.lambda_m = s.nx;
-  id.radius_m = s.radius;
-  id.depth_m = s.nz;
-  id.shift_m = 0.0;
+  id.agreed = {{"nx", static_cast<double>(s.nx), 0.0},
+               {"ny", static_cast<double>(s.ny), 0.0},
+               {"nz", static_cast<double>(s.nz), 0.0},
+               {"radius_lu", s.radius, 1e-12}};
   id.total_cells = 1;
   return id;
 }
