@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "tests/child_process.hpp"
+#include "tests/temp_dir.hpp"
 
 namespace {
 
-namespace fs = std::filesystem;
 using dld::test::Process;
 using dld::test::slurp;
 using dld::test::spawn;
@@ -26,15 +26,8 @@ using dld::test::wait_for;
 
 class TcpSecurity : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("dld-tcp-" + std::to_string(getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-    port_ = 30000 + static_cast<int>(getpid() % 2000) * 8;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  void SetUp() override { port_ = 30000 + static_cast<int>(getpid() % 2000) * 8; }
+  std::string path(const std::string& name) const { return (tmp_.path() / name).string(); }
   std::string endpoint(const std::string& host = "127.0.0.1") const {
     return "tcp://" + host + ":" + std::to_string(port_);
   }
@@ -59,7 +52,7 @@ class TcpSecurity : public ::testing::Test {
     for (const auto& s : stems) args.push_back(path(s));
     ASSERT_EQ(run(args, "keys.log").first, 0);
   }
-  fs::path dir_;
+  dld::test::TempDir tmp_{"dld-tcp"};
   int port_ = 0;
 };
 
