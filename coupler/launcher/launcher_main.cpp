@@ -22,6 +22,7 @@
 #include <thread>
 
 #include "coupler/curve_keys.hpp"
+#include "coupler/launcher/checkpoints.hpp"
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/run_file_merge.hpp"
 #include "shared/cli_checks.hpp"
@@ -38,58 +39,6 @@ void on_sigint(int) {
 }
 
 namespace fs = std::filesystem;
-
-/// Step of a checkpoint file, or -1 if it is missing or unreadable.
-std::int64_t checkpoint_step(const std::string& path, const std::string& group) {
-  if (!fs::exists(path)) {
-    return -1;
-  }
-  try {
-    return static_cast<std::int64_t>(
-        dld::H5File(path, dld::H5File::Mode::kRead).read_attribute_number(group, "step"));
-  } catch (const dld::InputError&) {
-    return -1;
-  }
-}
-
-/// For each (file, group), the file (itself or its .prev) at the newest step all of them have.
-std::vector<std::string> common_checkpoint(
-    const std::vector<std::pair<std::string, std::string>>& sides) {
-  std::vector<std::int64_t> candidates;
-  for (const auto& [path, group] : sides) {
-    for (const std::string& p : {path, path + ".prev"}) {
-      candidates.push_back(checkpoint_step(p, group));
-    }
-  }
-  std::sort(candidates.rbegin(), candidates.rend());
-  for (const std::int64_t step : candidates) {
-    if (step < 0) {
-      break;
-    }
-    std::vector<std::string> chosen;
-    for (const auto& [path, group] : sides) {
-      for (const std::string& p : {path, path + ".prev"}) {
-        if (checkpoint_step(p, group) == step) {
-          chosen.push_back(p);
-          break;
-        }
-      }
-    }
-    if (chosen.size() == sides.size()) {
-      return chosen;
-    }
-  }
-  // Each file and why it cannot be used: a corrupt file is not a missing one.
-  std::string found;
-  for (const auto& [path, group] : sides) {
-    const std::int64_t step = checkpoint_step(path, group);
-    found += fmt::format(" {} ({})", path,
-                         step >= 0           ? fmt::format("step {}", step)
-                         : !fs::exists(path) ? std::string("no such file")
-                                             : std::string("not a readable checkpoint"));
-  }
-  throw dld::InputError("--resume: no checkpoint step shared by every program:" + found);
-}
 
 /// The run file from the part files; false (and one line naming the part) if a part is missing or
 /// unreadable. Never throws: the run's own exit status must still reach the caller.
@@ -222,7 +171,7 @@ std::vector<std::string> resume_points(const Options& o, const std::string& stem
     throw dld::InputError("--resume: only runs with --membrane cells checkpoint");
   std::vector<std::pair<std::string, std::string>> sides{{fluid_checkpoint(stem), "/fluid"}};
   for (int k = 0; k < peers; ++k) sides.emplace_back(cell_checkpoint(stem, k), "/membrane");
-  const auto chosen = common_checkpoint(sides);
+  const auto chosen = dld::coupler::common_checkpoint(sides);
   for (std::size_t i = 0; i < chosen.size(); ++i) from[i] = chosen[i];
   return from;
 }
