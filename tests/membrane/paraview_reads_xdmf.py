@@ -55,10 +55,14 @@ def check_fluid(path, reader):
     times = times_of(reader)
     if len(times) != len(steps):
         fail(f"{path}: {len(times)} time steps, the file has {len(steps)} snapshots")
-    reader.UpdatePipeline(times[-1])
-    info = reader.GetDataInformation()
-    if info.GetNumberOfPoints() != u.size // 3:
-        fail(f"{path}: {info.GetNumberOfPoints()} points, the lattice has {u.size // 3} nodes")
+    if len(set(times)) != len(times):
+        fail(f"{path}: a time step listed twice: {times}")
+    for t in times:  # every snapshot reads whole (none empty)
+        reader.UpdatePipeline(t)
+        info = reader.GetDataInformation()
+        if info.GetNumberOfPoints() != u.size // 3:
+            fail(f"{path} at t {t}: {info.GetNumberOfPoints()} points, the lattice has "
+                 f"{u.size // 3} nodes")
     array = info.GetPointDataInformation().GetArrayInformation("velocity_m_s")
     if array is None:
         fail(f"{path}: no velocity_m_s array")
@@ -72,13 +76,13 @@ def check_fluid(path, reader):
 def main(folder):
     files = sorted(glob.glob(os.path.join(os.path.abspath(folder), "*.xmf")))
     kinds = set()
-    for path in files:
+    for path in files:  # the coupled run's, and a fluid-only run's (fluid-only.xmf)
         reader = OpenDataFile(path)
         if reader is None:
             fail(f"{path}: ParaView has no reader for it")
         if reader.GetXMLName() != "Xdmf3ReaderS":
             fail(f"{path}: opened by {reader.GetXMLName()}, expected ParaView's default Xdmf3ReaderS")
-        if path.endswith("-fluid.xmf"):
+        if path.endswith("-fluid.xmf") or path.endswith("fluid-only.xmf"):
             check_fluid(path, reader)
             kinds.add("fluid")
         elif "-cells-" in path:
