@@ -41,4 +41,17 @@ double AreaPenalty::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Poi
   return 0.5 * p_.kappa_a * da * da / a0_;
 }
 
+AreaPenalty AreaPenalty::from_scene(const std::optional<TomlSection>& t, const ModelContext& c) {
+  const double rel = required_table(t, kName).in_range("modulus_rel", 0.0, 1e9);
+  return AreaPenalty(c.reference, {rel * c.kappa_s_lu});
+}
+
+AreaPenalty AreaPenalty::for_test(const TriMesh& reference) {
+  return AreaPenalty(reference, {1.0});
+}
+
+std::string AreaPenalty::describe() const {
+  return fmt::format("area: kappa_A {:.6g} (lattice modulus)", params().kappa_a);
+}
+
 }  // namespace dld::membrane

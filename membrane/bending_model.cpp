@@ -145,4 +145,25 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
   return kSqrt3 * p_.kappa_b * en;
 }
 
+BendingModel BendingModel::from_scene(const std::optional<TomlSection>& t, const ModelContext& c) {
+  const TomlSection& s = required_table(t, kName);
+  const bool rel = s.has("modulus_rel"), joule = s.has("modulus_J");
+  if (rel == joule)
+    s.fail(
+        rel ? "modulus_rel" : "modulus_J",
+        "give exactly one of modulus_rel (kappa_b / (kappa_s r^2)) and modulus_J (kappa_b in J)");
+  if (joule)
+    return BendingModel(c.reference, {s.in_range("modulus_J", 0.0, 1e-15) * c.energy_to_lu});
+  return BendingModel(c.reference, {s.in_range("modulus_rel", 0.0, 1e3) * c.kappa_s_lu *
+                                    c.radius_lu * c.radius_lu});
+}
+
+BendingModel BendingModel::for_test(const TriMesh& reference) {
+  return BendingModel(reference, {1.0});
+}
+
+std::string BendingModel::describe() const {
+  return fmt::format("bending: kappa_b {:.6g} (lattice energy)", params().kappa_b);
+}
+
 }  // namespace dld::membrane

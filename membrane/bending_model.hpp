@@ -5,10 +5,13 @@
 // Gompper & Kroll, J. Phys. I France 6 (1996) 1305). Angle gradients: Bridson, Marino, Fedkiw,
 // SCA 2003, section 4.
 #pragma once
+#include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "membrane/mesh.hpp"
+#include "membrane/model_context.hpp"
 #include "membrane/node_gather.hpp"
 
 namespace dld::membrane {
@@ -22,6 +25,13 @@ class BendingModel {
   static constexpr std::string_view kName = "bending";
   /// Throws InputError unless kappa_b >= 0.
   BendingModel(const TriMesh& reference, const BendingParams& p);
+  static constexpr std::string_view kSummary = "dihedral-angle bending (kappa_b)";
+  /// Reads [membrane.{kName}] (keys: docs/membrane-scene-keys.md) into lattice parameters.
+  static BendingModel from_scene(const std::optional<TomlSection>& table, const ModelContext& ctx);
+  /// Moduli of order one on `reference`, for the tests every model must pass.
+  static BendingModel for_test(const TriMesh& reference);
+  /// One line with its lattice parameters, e.g. "skalak: kappa_s 1e-4, kappa_alpha 0.5".
+  std::string describe() const;
   double energy(const Eigen::Ref<const Points>& x) const;
   double add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Points> f) const;
   /// Signed dihedral angle of hinge h (for tests).

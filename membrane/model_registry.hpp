@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: MIT
 // The membrane models, chosen by name in the scene ([membrane] models = [...]). A model is one
-// file (the physics, with a Params struct) plus one line in kModels and one alternative in
-// AnyModel below. Dispatch is a std::visit per model per evaluation, never per node.
+// file (membrane/<name>.hpp/.cpp: the physics with a Params struct, kName, kSummary, from_scene()
+// reading its [membrane.<name>] table, for_test() and describe()) plus its include and its
+// alternative in AnyModel below: the registry, the scene reader, describe() and the tests every
+// model must pass (tests/membrane/models_test.cpp) all follow from AnyModel. Dispatch is a
+// std::visit per model per evaluation, never per node.
 #pragma once
 #include <string>
 #include <string_view>
@@ -10,36 +13,28 @@
 
 #include "membrane/area_penalty.hpp"
 #include "membrane/bending_model.hpp"
+#include "membrane/model_context.hpp"
 #include "membrane/neo_hookean_model.hpp"
 #include "membrane/skalak_model.hpp"
+#include "membrane/spring_network.hpp"
 #include "membrane/volume_penalty.hpp"
 #include "shared/toml_section.hpp"
 
 namespace dld::membrane {
 
-using AnyModel =
-    std::variant<SkalakModel, NeoHookeanModel, BendingModel, VolumePenalty, AreaPenalty>;
-
-/// What a model needs besides its own table to get lattice parameters.
-struct ModelContext {
-  const TriMesh& reference;  ///< rest shape [lattice units]
-  double kappa_s_lu;         ///< the cell's Skalak kappa_s [lattice modulus]
-  double radius_lu;          ///< cell radius r [lattice lengths]
-  /// The same cell's kappa_s in lattice units of the reference setting (SPEC 4: dx 0.4 um,
-  /// tau 1, Re 0.1; same Ca): a modulus given there is kappa_s_lu * (value / this).
-  double reference_kappa_s_lu;
-  double energy_to_lu;      ///< factor: J -> lattice energy
-  double capillary_number;  ///< the scene's Ca; 0 when kappa_s was given directly
-};
+using AnyModel = std::variant<SkalakModel, NeoHookeanModel, BendingModel, VolumePenalty,
+                              AreaPenalty, SpringNetwork>;
 
 struct ModelEntry {
   std::string_view name;
   std::string_view summary;  ///< one line for docs and error messages
   /// Reads [membrane.<name>] (absent table = std::nullopt) and builds the model.
   AnyModel (*make)(const std::optional<TomlSection>& table, const ModelContext& ctx);
+  /// The model with moduli of order one on a test mesh.
+  AnyModel (*for_test)(const TriMesh& reference);
 };
 
-/// The registry: every model the scene can name.
+/// The registry: every model the scene can name, in AnyModel's order.
 const std::vector<ModelEntry>& model_registry();
 /// Names joined for messages: "skalak, neo_hookean, ...".
 std::string model_names();
@@ -64,9 +59,7 @@ class MembraneMechanics {
   std::vector<AnyModel> models_;
 };
 
-}  // namespace dld::membrane
-
-namespace dld::membrane {
-/// One line with the model's lattice parameters, e.g. "skalak: kappa_s 1e-4, kappa_alpha 0.5".
+/// One line with the model's lattice parameters (the model's describe()).
 std::string describe(const AnyModel& model);
+
 }  // namespace dld::membrane

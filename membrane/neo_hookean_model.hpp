@@ -3,8 +3,11 @@
 // solid; Barthes-Biesel, Diaz, Dhenin, J. Fluid Mech. 460 (2002) 211, eq. 2.7):
 //   w = (G_s/2) (l1^2 + l2^2 + 1/(l1^2 l2^2) - 3) = (G_s/2) (I1 - 1 + 1/(1 + I2)).
 #pragma once
+#include <optional>
+#include <string>
 #include <string_view>
 
+#include "membrane/model_context.hpp"
 #include "membrane/triangle_elements.hpp"
 
 namespace dld::membrane {
@@ -29,6 +32,14 @@ class NeoHookeanModel : public TriangleElements<NeoHookeanLaw> {
   static constexpr std::string_view kName = "neo_hookean";
   /// Throws InputError unless G_s > 0.
   NeoHookeanModel(const TriMesh& reference, const NeoHookeanParams& p);
+  static constexpr std::string_view kSummary = "neo-Hookean finite elements (G_s = kappa_s/3)";
+  /// Reads [membrane.{kName}] (keys: docs/membrane-scene-keys.md) into lattice parameters.
+  static NeoHookeanModel from_scene(const std::optional<TomlSection>& table,
+                                    const ModelContext& ctx);
+  /// Moduli of order one on `reference`, for the tests every model must pass.
+  static NeoHookeanModel for_test(const TriMesh& reference);
+  /// One line with its lattice parameters, e.g. "skalak: kappa_s 1e-4, kappa_alpha 0.5".
+  std::string describe() const;
 };
 
 }  // namespace dld::membrane

@@ -41,4 +41,32 @@ double VolumePenalty::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<P
   return 0.5 * p_.kappa_v * dv * dv / v0_;
 }
 
+VolumePenalty VolumePenalty::from_scene(const std::optional<TomlSection>& t,
+                                        const ModelContext& c) {
+  const TomlSection& s = required_table(t, kName);
+  const double rel = s.in_range("modulus_rel", 0.0, 1e9);
+  // kappa_V relative to the kappa_s of another Ca: the same kappa_V at every Ca of a sweep (kappa_s
+  // falls as 1/Ca at fixed drive), where a stiffness that follows kappa_s would weaken 5-fold
+  // from Ca 0.2 to 1.0.
+  double kappa_s = c.kappa_s_lu;
+  if (s.has("reference_capillary_number")) {
+    const double ref = s.positive("reference_capillary_number");
+    if (!(c.capillary_number > 0.0)) {
+      s.fail("reference_capillary_number",
+             "needs [membrane] capillary_number (kappa_s was given directly)");
+    }
+    kappa_s *= c.capillary_number / ref;
+  }
+  return VolumePenalty(c.reference, {rel * kappa_s / c.radius_lu});
+}
+
+VolumePenalty VolumePenalty::for_test(const TriMesh& reference) {
+  return VolumePenalty(reference, {1.0});
+}
+
+std::string VolumePenalty::describe() const {
+  return fmt::format("volume: kappa_V {:.6g} (lattice energy/volume), V0 {:.6g}", params().kappa_v,
+                     reference_volume());
+}
+
 }  // namespace dld::membrane
