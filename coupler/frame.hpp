@@ -17,7 +17,7 @@ class FramePool;
 static_assert(std::endian::native == std::endian::little,
               "the frame codec copies doubles and integers as they lie in memory");
 
-inline constexpr std::uint32_t kMagic = 0x43444C44;   ///< bytes 'D' 'L' 'D' 'C'
+inline constexpr std::uint32_t kMagic = 0x43444C44;  ///< bytes 'D' 'L' 'D' 'C'
 /// 2: cell surfaces in the handshake; 3: named values to agree on instead of fixed fields
 inline constexpr std::uint16_t kProtocolVersion = 3;
 inline constexpr std::size_t kHeaderBytes = 24;

@@ -162,9 +162,9 @@ TEST(Handshake, SurfaceCountsThatDisagreeAreMalformed) {
   // cell_faces[1] lies after the fixed bytes, the name (10), cell_nodes (8) and cell_faces[0]
   // (no named values, no scene hash, no shared memory here).
   const std::uint32_t three = 3;
-  std::memcpy(static_cast<std::byte*>(frame.data()) + kHeaderBytes + kHandshakeFixedBytes + 10 +
-                  8 + 4,
-              &three, 4);
+  std::memcpy(
+      static_cast<std::byte*>(frame.data()) + kHeaderBytes + kHandshakeFixedBytes + 10 + 8 + 4,
+      &three, 4);
   try {
     decode_handshake(frame, read_header(frame, kLink, 0), kLink);
     FAIL() << "accepted";
