@@ -21,6 +21,7 @@
 #include "coupler/security_options.hpp"
 #include "shared/cli_checks.hpp"
 #include "shared/dld_geometry.hpp"
+#include "shared/guarded_main.hpp"
 #include "shared/h5file.hpp"
 #include "shared/input_error.hpp"
 #include "shared/log.hpp"
@@ -116,7 +117,7 @@ int run(const Args& a) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_main(int argc, char** argv) {
   CLI::App app{"dld-tracers: tracer particles carried by dld-fluid (a second membrane program)"};
   Args a;
   app.add_option("scene", a.scene_path, "scene file (TOML)")->required();
@@ -146,4 +147,8 @@ int main(int argc, char** argv) {
     spdlog::error("{}", e.what());
     return 1;
   }
+}
+
+int main(int argc, char** argv) {
+  return dld::guarded_main("dld-tracers", run_main, argc, argv);
 }
