@@ -180,7 +180,8 @@ class Sweep {
   /// Runs everything; the names of the runs that failed.
   std::vector<std::string> run() {
     t0_ = last_report_ = std::chrono::steady_clock::now();
-    while (!queue_.empty() || !running_.empty()) {
+    // Interrupted: no new run starts, so the sweep ends once the running ones have stopped.
+    while ((!queue_.empty() && !g_interrupted) || !running_.empty()) {
       start_ready();
       if (dry_) break;
       if (g_interrupted)

@@ -96,6 +96,20 @@ TEST_F(Sweep, InterruptedSweepResumesToTheResultsOfAnUninterruptedOne) {
   EXPECT_NE(summary.find("\nd6,6,"), std::string::npos) << summary;
 }
 
+TEST_F(Sweep, InterruptedWithRunsWaitingItStopsAtOnce) {
+  // One run at a time: the second is still waiting when Ctrl-C comes, and the sweep must not
+  // wait for it forever (it did, 2026-12-02: SLURM's SIGTERM would then burn the allocation).
+  const std::string s = study("waiting", 100000);
+  auto p = spawn({DLD_SWEEP_EXE, s, "--jobs", "1"}, (dir_ / "waiting.log").string());
+  const fs::path first = dir_ / "waiting" / "default" / "d4.4" / "run-fluid.ckpt.h5";
+  const auto limit = std::chrono::steady_clock::now() + std::chrono::seconds(200);
+  while (std::chrono::steady_clock::now() < limit && !fs::exists(first))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(p.pid, SIGINT);
+  EXPECT_EQ(wait_for(p, 60), 130) << slurp(p.log);
+  EXPECT_NE(slurp(p.log).find("interrupted"), std::string::npos) << slurp(p.log);
+}
+
 TEST_F(Sweep, AChangedStudyIsNotResumedUnderTheOldRuns) {
   const std::string s = study("changed", 200);
   ASSERT_EQ(sweep(s, "changed-1.log"), 0) << slurp((dir_ / "changed-1.log").string());
