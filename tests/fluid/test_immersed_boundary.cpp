@@ -7,11 +7,14 @@
 #include <random>
 #include <vector>
 
-#include "fluid/ib_axis_batch.hpp"
 #include "fluid/immersed_boundary.hpp"
+#include "tests/fluid/ib_test_domain.hpp"
 
 namespace dld::fluid {
 namespace {
+
+using test::markers_everywhere;
+using test::test_domain;
 
 const IbKernel kKernels[] = {IbKernel::kPeskin2, IbKernel::kPeskin3, IbKernel::kPeskin4};
 
@@ -34,17 +37,6 @@ TEST(IbKernel, ZeroOutsideSupport) {
     EXPECT_EQ(phi(k, -half_width(k) - 0.3), 0.0);
     EXPECT_GT(phi(k, half_width(k) - 0.05), 0.0);
   }
-}
-
-Domain test_domain(double shift) {
-  Domain d;
-  d.nx = 24;
-  d.ny = 20;
-  d.nz = 10;
-  d.shift = shift;
-  d.walls_z = true;
-  d.pillars.push_back({12.0, 10.0, 4.0});
-  return d;
 }
 
 TEST(ImmersedBoundary, SpreadingConservesTotalForceEverywhere) {
@@ -229,155 +221,6 @@ TEST(ImmersedBoundary, SpreadingWithTwoThreadsEqualsOneThread) {
   EXPECT_LT(diff, 1e-14 * size);
 }
 
-/// Markers anywhere outside the pillar of test_domain(shift): across both faces, by the walls.
-std::vector<double> markers_everywhere(const Lattice& L, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> ux(-30.0, 50.0), uy(-25.0, 45.0), uz(0.3, 9.7);
-  std::vector<double> pos;
-  while (pos.size() < 3 * static_cast<std::size_t>(count)) {
-    const double p[3] = {ux(rng), uy(rng), uz(rng)};
-    const double x = std::fmod(std::fmod(p[0], 24.0) + 24.0, 24.0);
-    const double y = p[1] - std::floor(p[0] / 24.0) * L.domain().shift;
-    if (!L.domain().in_pillar(x, y)) pos.insert(pos.end(), p, p + 3);
-  }
-  return pos;
-}
-
-/// Every node of a footprint with a non-zero weight is a node of stencil() with the same weight,
-/// and there are as many.
-template <typename Footprint, typename NodeWeight>
-void expect_same_nodes(const IbStencil& s, int W, NodeWeight node_weight, std::size_t m) {
-  int weighted = 0;  // z layers beyond a wall have weight zero in the footprint
-  for (int c = 0; c < W; ++c)
-    for (int b = 0; b < W; ++b)
-      for (int a = 0; a < W; ++a) {
-        const auto [node, w] = node_weight(a, b, c);
-        if (w == 0.0) continue;
-        ++weighted;
-        int found = -1;
-        for (int r = 0; r < s.count; ++r)
-          if (s.node[r] == node) found = r;
-        ASSERT_GE(found, 0) << "node " << node << " of marker " << m;
-        EXPECT_NEAR(w, s.weight[found], 1e-15) << W << "-point, marker " << m;
-      }
-  EXPECT_EQ(weighted, s.count) << "the footprint's nodes are the stencil's, marker " << m;
-}
-
-template <int W>
-void expect_footprint_is_stencil(const Lattice& L, IbKernel k, const std::vector<double>& pos) {
-  const ImmersedBoundary ib(L, k);
-  int separable = 0, split = 0, listed = 0;
-  for (std::size_t m = 0; m < pos.size() / 3; ++m) {
-    IbFootprint<W> fp;
-    IbSplitFootprint<W> sp;
-    IbStencil s;
-    ASSERT_TRUE(ib.stencil(&pos[3 * m], s));
-    if (ib.footprint<W>(&pos[3 * m], fp)) {
-      ++separable;
-      expect_same_nodes<IbFootprint<W>>(
-          s, W,
-          [&](int a, int b, int c) {
-            return std::pair{fp.layer[c] + fp.row[b] + fp.x0 + a, fp.wx[a] * fp.wy[b] * fp.wz[c]};
-          },
-          m);
-    } else if (ib.split_footprint<W>(&pos[3 * m], sp)) {
-      ++split;
-      expect_same_nodes<IbSplitFootprint<W>>(
-          s, W,
-          [&](int a, int b, int c) {
-            const int part = a < sp.split ? 0 : 1;
-            return std::pair{sp.layer[c] + sp.row[part][b] + sp.x0[part] +
-                                 static_cast<std::size_t>(a - part * sp.split),
-                             sp.wx[a] * sp.wy[part][b] * sp.wz[c]};
-          },
-          m);
-    } else {
-      ++listed;
-    }
-  }
-  EXPECT_GT(separable, 100) << W << "-point";
-  EXPECT_GT(split, 10) << W << "-point: markers across the shifted x face";
-  EXPECT_GT(listed, 10) << W << "-point: markers by the pillar";
-}
-
-TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
-  const Lattice L(test_domain(3.4));
-  const auto pos = markers_everywhere(L, 1000, 11);
-  expect_footprint_is_stencil<2>(L, IbKernel::kPeskin2, pos);
-  expect_footprint_is_stencil<3>(L, IbKernel::kPeskin3, pos);
-  expect_footprint_is_stencil<4>(L, IbKernel::kPeskin4, pos);
-}
-
-// The SIMD batch of axis weights (fluid/ib_axis_batch.hpp) gives footprint<4>()'s footprint bit
-// for bit, also for markers folded from other boxes, by the walls and refused ones (x face,
-// pillar, not finite).
-TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
-  const Lattice L(test_domain(3.4));
-  const ImmersedBoundary ib(L, IbKernel::kPeskin4);
-  auto pos = markers_everywhere(L, 1000, 23);
-  for (std::size_t m = 0; m < 100; ++m)
-    pos[3 * m] += static_cast<double>(m % 5) * L.nx() - 2.0 * L.nx();
-  pos[3 * 7] = std::nan("");
-  pos[3 * 8 + 2] = INFINITY;
-  const std::size_t markers = pos.size() / 3;
-  std::vector<std::uint32_t> index(markers);
-  for (std::size_t m = 0; m < markers; ++m) index[m] = static_cast<std::uint32_t>(markers - 1 - m);
-  int separable = 0, refused = 0;
-  for (std::size_t q0 = 0; q0 < markers; q0 += kIbBatch) {
-    const int n = static_cast<int>(std::min<std::size_t>(kIbBatch, markers - q0));
-    Peskin4AxisBatch axes;
-    peskin4_axis_batch(pos.data(), &index[q0], n, L.nx(), L.domain().shift, axes);
-    for (int l = 0; l < n; ++l) {
-      const double* p = &pos[3 * index[q0 + static_cast<std::size_t>(l)]];
-      IbFootprint<4> a, b;
-      const bool one = ib.footprint<4>(p, a), batch = ib.batched_footprint(axes, l, p, b);
-      ASSERT_EQ(one, batch) << "marker " << index[q0 + static_cast<std::size_t>(l)];
-      if (!one) {
-        ++refused;
-        continue;
-      }
-      ++separable;
-      EXPECT_EQ(a.x0, b.x0);
-      for (int k = 0; k < 4; ++k) {
-        EXPECT_EQ(a.wx[k], b.wx[k]);  // exact equality: the same bits
-        EXPECT_EQ(a.wy[k], b.wy[k]);
-        EXPECT_EQ(a.wz[k], b.wz[k]);
-        EXPECT_EQ(a.row[k], b.row[k]);
-        EXPECT_EQ(a.layer[k], b.layer[k]);
-      }
-    }
-  }
-  EXPECT_GT(separable, 500);
-  EXPECT_GT(refused, 20);
-}
-
-// A footprint across the shifted x face spreads (with masked vectors where the CPU has them) the
-// same bits as the node-by-node loop over its nodes.
-TEST(ImmersedBoundary, SplitFootprintSpreadsTheNodeLoopsBits) {
-  const Lattice L(test_domain(3.4));
-  const ImmersedBoundary ib(L, IbKernel::kPeskin4);
-  const auto pos = markers_everywhere(L, 2000, 31);
-  const std::size_t n = L.padded_size();
-  std::vector<double> a(3 * n, 0.0), b(3 * n, 0.0);
-  double* const fa[3] = {a.data(), a.data() + n, a.data() + 2 * n};
-  double* const fb[3] = {b.data(), b.data() + n, b.data() + 2 * n};
-  int split = 0;
-  for (std::size_t m = 0; m < pos.size() / 3; ++m) {
-    IbSplitFootprint<4> sp;
-    if (!ib.split_footprint<4>(&pos[3 * m], sp)) continue;
-    ++split;
-    const double f[3] = {0.3 + 1e-3 * static_cast<double>(m), -0.7, 1.1};
-    spread_footprint(sp, f, fa);
-    for_each_node(sp, [&](std::size_t node, double w) {
-      for (int d = 0; d < 3; ++d) fb[d][node] += w * f[d];
-    });
-  }
-  EXPECT_GT(split, 10);
-  EXPECT_EQ(a, b);  // every node, bit for bit; nothing outside the footprints is touched
-}
-
-// spread() and interpolate() (separable footprints, x slabs per thread) against the plain sums
-// over stencil()'s node lists, for 1 and 2 threads: equal to round-off.
 TEST(ImmersedBoundary, SpreadAndInterpolateEqualTheNodeListSums) {
   const Lattice L(test_domain(3.4));
   const std::size_t n = L.padded_size();
