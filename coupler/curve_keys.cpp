@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "coupler/curve_keys.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
+#include <unistd.h>
 #include <zmq.h>
 
 #include <array>
-#include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
@@ -29,15 +30,18 @@ std::string trimmed(const std::string& s) {
   return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
 }
 
+// Created with its final mode (a secret key is never readable by others, not even for a moment);
+// fchmod for a file that existed with other permissions.
 void write_file(const std::string& path, const std::string& text, mode_t mode) {
-  std::FILE* f = std::fopen(path.c_str(), "w");
-  if (f == nullptr || chmod(path.c_str(), mode) != 0) {
-    if (f != nullptr) std::fclose(f);
-    throw InputError(fmt::format("{}: cannot write the key file", path));
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, mode);
+  bool ok = fd >= 0 && ::fchmod(fd, mode) == 0;
+  for (std::size_t done = 0; ok && done < text.size();) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    ok = n > 0;
+    done += ok ? static_cast<std::size_t>(n) : 0;
   }
-  const bool ok = std::fputs(text.c_str(), f) >= 0;
-  if (std::fclose(f) != 0 || !ok)
-    throw InputError(fmt::format("{}: cannot write the key file", path));
+  if (fd >= 0 && ::close(fd) != 0) ok = false;
+  if (!ok) throw InputError(fmt::format("{}: cannot write the key file", path));
 }
 
 }  // namespace
