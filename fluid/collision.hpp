@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Collision operators with Guo forcing, applied to one node's populations in place.
-// BGK: single relaxation rate. TRT (Ginzburg 2008): symmetric and antisymmetric parts relax with
-// omega+ (sets viscosity, nu = (1/omega+ - 1/2)/3) and omega- (set by the magic parameter
-// Lambda = (1/omega+ - 1/2)(1/omega- - 1/2); 3/16 puts half-way bounce-back walls exactly in place
-// for Poiseuille flow). Guo, Zheng, Shi, PRE 65 046308 (2002), eq. (20) for the source split into
-// its symmetric and antisymmetric parts, each scaled by (1 - omega/2).
-// All quantities in lattice units.
+// What every collision operator shares: the two relaxation rates of a node, the state the fused
+// kernel hands an operator (fluid/stream_collide.hpp), the moments with Guo's half-force shift, the
+// second-order equilibrium, and the reference BGK/TRT collision `collide()` in plain loops, which
+// the equivalence tests hold the operators' unrolled `relax()` to. The operators themselves are one
+// file each in fluid/collision/ and one line in fluid/collision_registry.hpp.
+// Guo, Zheng, Shi, PRE 65 046308 (2002), eq. (20): the source split into its symmetric and
+// antisymmetric parts, each scaled by (1 - omega/2). All quantities in lattice units.
 #pragma once
 #include "fluid/d3q19.hpp"
 
@@ -16,17 +16,12 @@ struct RelaxationRates {
   double plus, minus;
 };
 
-struct Bgk {
-  /// Relaxation rates for a node with relaxation time tau: both parts relax with 1/tau.
-  using Rates = RelaxationRates;
-  static Rates rates(double tau, double /*magic*/) { return {1.0 / tau, 1.0 / tau}; }
-};
-
-struct Trt {
-  using Rates = RelaxationRates;
-  static Rates rates(double tau, double magic) {
-    return {1.0 / tau, 1.0 / (0.5 + magic / (tau - 0.5))};
-  }
+/// One node as the fused kernel hands it to an operator's `relax(f, s)`: the moments of its
+/// streamed populations (u with the half-force shift), the force density on it and its rates.
+struct NodeState {
+  double rho, ux, uy, uz;
+  double fx, fy, fz;
+  double omega_plus, omega_minus;
 };
 
 /// Macroscopic moments with the half-force velocity shift of Guo forcing:
@@ -56,8 +51,9 @@ inline double equilibrium(int i, double rho, double ux, double uy, double uz) {
   return D3Q19::w[i] * rho * (1.0 + 3.0 * cu + 4.5 * cu * cu - 1.5 * uu);
 }
 
-/// Relaxes f (19 values) in place towards equilibrium with the Guo source for force (fx, fy, fz).
-/// Works for BGK (plus == minus) and TRT alike; returns the moments used.
+/// Reference collision: relaxes f (19 values) in place towards equilibrium with the Guo source for
+/// force (fx, fy, fz); BGK is omega_plus == omega_minus, TRT (Ginzburg 2008) the pair split below.
+/// Returns the moments used.
 template <typename Real>
 inline Moments collide(Real* f, double omega_plus, double omega_minus, double fx, double fy,
                        double fz) {

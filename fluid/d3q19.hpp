@@ -33,6 +33,11 @@ struct D3Q19 {
   }();
 };
 
+/// Component A of velocity I as a compile-time constant: unrolled kernels fold it into their
+/// arithmetic (0 and 1 cost nothing).
+template <int I, int A>
+inline constexpr double kC = static_cast<double>(D3Q19::c[I][A]);
+
 namespace detail {
 constexpr bool weights_isotropic() {
   double s0 = 0, s2[3][3] = {};

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "fluid/bounce_back.hpp"
+#include "fluid/collision_registry.hpp"
 #include "fluid/periodic_ghosts.hpp"
 
 namespace dld::fluid {
@@ -50,8 +51,7 @@ std::array<double*, 3> FluidSolver::force_field() {
 
 RelaxationField& FluidSolver::relaxation_field() {
   if (!relaxation_) {
-    const RelaxationField::RatesOf rates =
-        config_.collision == CollisionKind::kBgk ? &Bgk::rates : &Trt::rates;
+    const RelaxationField::RatesOf rates = rates_function(config_.collision);
     relaxation_ = std::make_unique<RelaxationField>(lattice_.padded_size(), config_.tau, rates,
                                                     config_.magic, config_.huge_pages);
   }
@@ -91,9 +91,9 @@ void FluidSolver::step() {
     p.rate_plus = relaxation_->plus();
     p.rate_minus = relaxation_->minus();
   }
-  sums_ = config_.collision == CollisionKind::kBgk
-              ? dispatch_fields<Bgk>(ff, tf, lattice_, f_.data(), g_.data(), p)
-              : dispatch_fields<Trt>(ff, tf, lattice_, f_.data(), g_.data(), p);
+  sums_ = with_collision(config_.collision, [&]<typename C>() {
+    return dispatch_fields<C>(ff, tf, lattice_, f_.data(), g_.data(), p);
+  });
   applied_force_y_ = force_y_;
   f_.swap(g_);
   velocity_current_ = ff;

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The fused pull-stream + collide kernel over the fluid runs of a Lattice. Two population arrays
 // (structure of arrays, stride padded_size): read the post-collision values of the neighbours in
-// `src`, collide, write to `dst`. Compile-time switches keep the optional per-node force and
+// `src`, collide with the Collision policy's relax() (fluid/collision/, inlined: no per-node
+// dispatch), write to `dst`. Compile-time switches keep the optional per-node force and
 // relaxation-time fields out of the loop when a scene has none (no cost unless used).
 //
 // Vectorisation: runs are cut into blocks of kLanes consecutive nodes; within a block the 19
@@ -13,6 +14,7 @@
 #include <utility>
 
 #include "fluid/collision.hpp"
+#include "fluid/d3q19.hpp"
 #include "fluid/lattice.hpp"
 
 namespace dld::fluid {
@@ -42,9 +44,6 @@ inline constexpr std::size_t kPopulationPadding = 64;
 inline constexpr std::ptrdiff_t kPrefetchDistance = 64;
 
 namespace detail {
-
-template <int I, int A>
-inline constexpr double kC = static_cast<double>(D3Q19::c[I][A]);
 
 /// Updates `count` <= kW consecutive nodes starting at padded index `node`. Lanes past `count`
 /// read (padded, allocated) memory and compute throw-away values that are neither stored nor
@@ -107,10 +106,7 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
     (std::make_integer_sequence<int, D3Q19::q>{});
     const double inv = 1.0 / rho;
     const double ux = (jx + 0.5 * fx) * inv, uy = (jy + 0.5 * fy) * inv, uz = (jz + 0.5 * fz) * inv;
-    const double uu = ux * ux + uy * uy + uz * uz;
-    const double uf = ux * fx + uy * fy + uz * fz;
-    const double kp = 1.0 - 0.5 * op, km = 1.0 - 0.5 * om;
-    // Same algebra as collide() in collision.hpp, with the directions unrolled.
+    // The operator's post-collision populations (fluid/collision/), stored unless masked.
     const bool live = !kMasked || l < count;
     if constexpr (kForceField) {
       if (live) {
@@ -119,28 +115,11 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
         vel_z[l] = uz;
       }
     }
-    if (live)
-      out[0][l] = f[0] - op * (f[0] - D3Q19::w[0] * rho * (1.0 - 1.5 * uu)) +
-                  kp * D3Q19::w[0] * (-3.0 * uf);
-    auto pair = [&]<int I>(std::integer_sequence<int, I>) {
-      constexpr double w = D3Q19::w[I];
-      const double cu = kC<I, 0> * ux + kC<I, 1> * uy + kC<I, 2> * uz;
-      const double cf = kC<I, 0> * fx + kC<I, 1> * fy + kC<I, 2> * fz;
-      const double feq_p = w * rho * (1.0 + 4.5 * cu * cu - 1.5 * uu);
-      const double feq_m = w * rho * 3.0 * cu;
-      const double fp = 0.5 * (f[I] + f[I + 1]);
-      const double fm = 0.5 * (f[I] - f[I + 1]);
-      const double dp = -op * (fp - feq_p) + kp * w * (9.0 * cu * cf - 3.0 * uf);
-      const double dm = -om * (fm - feq_m) + km * w * 3.0 * cf;
-      if (live) {
-        out[I][l] = f[I] + dp + dm;
-        out[I + 1][l] = f[I + 1] + dp - dm;
-      }
-    };
-    [&]<int... K>(std::integer_sequence<int, K...>) {
-      (pair(std::integer_sequence<int, 2 * K + 1>{}), ...);
+    Collision::relax(f, NodeState{rho, ux, uy, uz, fx, fy, fz, op, om});
+    [&]<int... I>(std::integer_sequence<int, I...>) {
+      ((live ? void(out[I][l] = f[I]) : void()), ...);
     }
-    (std::make_integer_sequence<int, (D3Q19::q - 1) / 2>{});
+    (std::make_integer_sequence<int, D3Q19::q>{});
     mass += live ? rho : 0.0;
     mx += live ? jx + 0.5 * fx : 0.0;
     my += live ? jy + 0.5 * fy : 0.0;

@@ -3,12 +3,21 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace dld {
 namespace {
+
+/// "trt" -> "TRT", for the scene description.
+std::string upper(std::string_view name) {
+  std::string out(name);
+  for (char& ch : out) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  return out;
+}
 
 /// Number of nodes along a length, required to be whole so walls and periodic boxes align.
 int whole_nodes(const TomlSection& lattice, double length_um, double dx_um, const char* what) {
@@ -53,8 +62,10 @@ void read_lattice(const TomlSection& l, Scene& s) {
   if (!(s.lattice.tau > 0.5))
     l.fail("tau",
            fmt::format("relaxation time must be > 1/2 (viscosity > 0), got {}", s.lattice.tau));
-  s.lattice.collision = l.choice("collision", {"trt", "bgk"}, "trt") == "bgk" ? CollisionKind::kBgk
-                                                                              : CollisionKind::kTrt;
+  const std::vector<std::string> names(kCollisionNames.begin(), kCollisionNames.end());
+  const std::string collision = l.choice("collision", names, "trt");
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (names[k] == collision) s.lattice.collision = static_cast<CollisionKind>(k);
   s.lattice.trt_magic = l.positive("trt_magic", 3.0 / 16.0);
   s.lattice.curved_walls =
       l.choice("wall_rule", {"bounce_back", "bouzidi"}, "bounce_back") == "bouzidi";
@@ -229,8 +240,8 @@ std::string Scene::describe() const {
       lattice.tau,
       fluid.viscosity_ratio != 1.0 ? fmt::format(" outside, {:.6g} inside the cells", tau_inner())
                                    : std::string(),
-      lattice.collision == CollisionKind::kTrt ? "TRT" : "BGK",
-      lattice.collision == CollisionKind::kTrt ? fmt::format(", Lambda {:.6g}", lattice.trt_magic)
+      upper(kCollisionNames[static_cast<std::size_t>(lattice.collision)]),
+      lattice.collision != CollisionKind::kBgk ? fmt::format(", Lambda {:.6g}", lattice.trt_magic)
                                                : std::string(),
       u.nu_lu());
   out += fmt::format(

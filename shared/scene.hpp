@@ -4,10 +4,12 @@
 // fluid, drive, run, output. Tables owned by other programs (membrane, cells, coupling) are kept
 // for them to read with the same strict TomlSection.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "shared/dld_geometry.hpp"
 #include "shared/toml_section.hpp"
@@ -15,7 +17,9 @@
 
 namespace dld {
 
-enum class CollisionKind { kBgk, kTrt };
+/// The collision operators, in the order of fluid/collision_registry.hpp (checked there).
+enum class CollisionKind { kBgk, kTrt, kMrt };
+inline constexpr std::array<std::string_view, 3> kCollisionNames{"bgk", "trt", "mrt"};
 
 struct LatticeParams {
   double dx_um = 0.4;  ///< lattice spacing [um]

@@ -244,6 +244,27 @@ BENCHMARK(BM_DldCellStepWithForceField)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
+// The coupled lattice step (force and relaxation fields) for each collision operator; second
+// argument: the operator's index in dld::kCollisionNames (0 bgk, 1 trt, 2 mrt).
+void BM_DldCellCollision(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  auto config = dld_config();
+  config.collision = static_cast<dld::CollisionKind>(state.range(1));
+  FluidSolver s(config);
+  s.force_field();
+  dld::fluid::RelaxationField& r = s.relaxation_field();
+  for (std::size_t n = 0; n < r.size(); n += 7) r.set(n, 3.0);
+  s.step();
+  for (auto _ : state) s.step();
+  report(state, static_cast<double>(s.lattice().fluid_nodes()));
+  state.SetLabel(std::string(dld::kCollisionNames[static_cast<std::size_t>(state.range(1))]));
+}
+BENCHMARK(BM_DldCellCollision)
+    ->ArgsProduct({{1, 2}, {0, 1, 2}})
+    ->ArgNames({"threads", "collision"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
 void BM_MemoryBandwidth(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
   double bw = 0;

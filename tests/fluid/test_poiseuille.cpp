@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
@@ -51,6 +52,30 @@ TEST(Poiseuille, TrtWithMagicThreeSixteenthsIsExact) {
   }
 }
 
+TEST(Poiseuille, MrtPlacesTheWallsExactlyAndConvergesAtSecondOrder) {
+  // MRT's odd moments relax with TRT's omega-, so Lambda = 3/16 puts the walls where TRT does:
+  // no error proportional to u. What is left comes from the energy and ghost moments relaxing at
+  // their own rates (their equilibria carry u^2): the error relative to u_max goes as u_max^2.
+  for (double tau : {0.8, 3.0}) {
+    const double e1 = poiseuille(CollisionKind::kMrt, tau, 12, 0.01).max_rel_error;
+    const double e2 = poiseuille(CollisionKind::kMrt, tau, 12, 0.005).max_rel_error;
+    std::printf("MRT tau %.1f, N 12: max error / u_max %.3e (u_max 0.01), %.3e (0.005)\n", tau, e1,
+                e2);
+    EXPECT_NEAR(e1 / e2, 4.0, 0.2) << "tau " << tau;
+    EXPECT_LT(e1, 1e-5) << "tau " << tau;
+  }
+  // Diffusive scaling (u_max ~ 1/N) at the tau inside the cells.
+  std::vector<int> n{8, 16, 32};
+  std::vector<double> err;
+  for (int nz : n) err.push_back(poiseuille(CollisionKind::kMrt, 3.0, nz, 0.08 / nz).l2_rel_error);
+  for (std::size_t i = 0; i + 1 < n.size(); ++i) {
+    const double order = std::log(err[i] / err[i + 1]) / std::log(2.0);
+    std::printf("MRT tau 3: N %d -> %d: L2 error %.3e -> %.3e, order %.3f\n", n[i], n[i + 1],
+                err[i], err[i + 1], order);
+    EXPECT_GT(order, 1.8) << "between N = " << n[i] << " and " << n[i + 1];
+  }
+}
+
 TEST(Poiseuille, BgkConvergesAtSecondOrder) {
   // Diffusive scaling: same tau, u_max proportional to 1/N keeps the Mach error subdominant.
   std::vector<int> n{8, 16, 32};
@@ -68,30 +93,49 @@ TEST(Poiseuille, BgkConvergesAtSecondOrder) {
   EXPECT_GT(err.back(), 1e-6);
 }
 
-TEST(Couette, MovingWallsGiveTheLinearProfileExactly) {
-  // Walls at z = 0 and H moving at -U and +U: u_x(z) = U (2 z / H - 1), for TRT and BGK alike
-  // (a linear profile has no second derivative for the wall placement error to act on).
-  for (CollisionKind kind : {CollisionKind::kTrt, CollisionKind::kBgk}) {
-    FluidConfig c;
-    c.domain.nx = 3;
-    c.domain.ny = 3;
-    c.domain.nz = 16;
-    const double u = 0.01;
-    c.domain.wall_velocity_low = {-u, 0, 0};
-    c.domain.wall_velocity_high = {u, 0, 0};
-    c.collision = kind;
-    c.tau = 0.9;
-    FluidSolver s(c);
-    const double mass0 = s.total_mass();
-    for (int i = 0; i < 30000; ++i) s.step();
-    // Round-off: adding and removing the wall term every step drifts the mass by ~1e-12 over
-    // 3e4 steps, and u = j / rho inherits it. A wrong wall rule errs by ~1e-3 u here.
-    for (int k = 0; k < 16; ++k) {
-      const double z = k + 0.5;
-      EXPECT_NEAR(s.node_moments(1, 1, k).ux, u * (2.0 * z / 16 - 1.0), 1e-10 * u) << "k " << k;
-    }
-    EXPECT_NEAR(s.total_mass(), mass0, 1e-11 * mass0);
+/// Largest |u - U (2 z / H - 1)| / U of Couette flow between walls moving at -U and +U, and the
+/// mass drift relative to the start, after 30 000 steps.
+std::pair<double, double> couette(CollisionKind kind, double u) {
+  FluidConfig c;
+  c.domain.nx = 3;
+  c.domain.ny = 3;
+  c.domain.nz = 16;
+  c.domain.wall_velocity_low = {-u, 0, 0};
+  c.domain.wall_velocity_high = {u, 0, 0};
+  c.collision = kind;
+  c.tau = 0.9;
+  FluidSolver s(c);
+  const double mass0 = s.total_mass();
+  for (int i = 0; i < 30000; ++i) s.step();
+  double err = 0;
+  for (int k = 0; k < 16; ++k) {
+    const double z = k + 0.5;
+    err = std::max(err, std::abs(s.node_moments(1, 1, k).ux - u * (2.0 * z / 16 - 1.0)) / u);
   }
+  return {err, std::abs(s.total_mass() - mass0) / mass0};
+}
+
+TEST(Couette, MovingWallsGiveTheLinearProfileExactly) {
+  // A linear profile has no second derivative for the wall placement error to act on: exact for
+  // TRT and BGK. Round-off: adding and removing the wall term every step drifts the mass by
+  // ~1e-12 over 3e4 steps, and u = j / rho inherits it. A wrong wall rule errs by ~1e-3 u here.
+  for (CollisionKind kind : {CollisionKind::kTrt, CollisionKind::kBgk}) {
+    const auto [err, drift] = couette(kind, 0.01);
+    EXPECT_LT(err, 1e-10) << kCollisionNames[static_cast<std::size_t>(kind)];
+    EXPECT_LT(drift, 1e-11);
+  }
+}
+
+TEST(Couette, MrtErrsOnlyAtSecondOrderInTheWallSpeed) {
+  // MRT's energy and ghost moments relax at their own rates, and their equilibria carry u^2: the
+  // relative error goes as U^2 (no wall placement error, which would not fall with U).
+  const auto [e1, d1] = couette(CollisionKind::kMrt, 0.01);
+  const auto [e2, d2] = couette(CollisionKind::kMrt, 0.005);
+  std::printf("MRT Couette: max error / U %.3e (U 0.01), %.3e (0.005)\n", e1, e2);
+  EXPECT_NEAR(e1 / e2, 4.0, 0.2);
+  EXPECT_LT(e1, 1e-5);
+  EXPECT_LT(d1, 1e-11);
+  EXPECT_LT(d2, 1e-11);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // file, the line and the key.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <string>
 
 #include "shared/scene.hpp"
@@ -121,8 +122,20 @@ TEST(Scene, TooFastFlowIsRefused) {
 }
 
 TEST(Scene, UnknownCollisionIsRefused) {
-  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ncollision = \"mrt\""),
+  expect_error(replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ncollision = \"lbgk\""),
                "lattice.collision", 11, "expected one of");
+}
+
+TEST(Scene, EveryRegisteredCollisionIsAccepted) {
+  for (std::size_t k = 0; k < dld::kCollisionNames.size(); ++k) {
+    const std::string name(dld::kCollisionNames[k]);
+    const dld::Scene s = dld::parse_scene(
+        replace(kGood, "dx_um = 0.4", "dx_um = 0.4\ncollision = \"" + name + "\""), "c.toml");
+    EXPECT_EQ(static_cast<std::size_t>(s.lattice.collision), k) << name;
+    std::string upper = name;
+    for (char& ch : upper) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+    EXPECT_NE(s.describe().find("(" + upper), std::string::npos) << s.describe();
+  }
 }
 
 TEST(Scene, SyntaxErrorGivesLine) {
