@@ -156,7 +156,8 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
   const double shift = lattice_.domain().shift;
   if (keep) {
     spread_footprints_.resize(markers);
-    spread_separable_.resize(markers);
+    spread_split_.resize(markers);
+    spread_kind_.resize(markers);
   }
   double* const out[3] = {field[0], field[1], field[2]};
   std::size_t bad = markers;
@@ -190,13 +191,15 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
           } else {
             separable = footprint<W>(&positions[3 * m], fp);
           }
-          if constexpr (keep) {
-            spread_separable_[q] = separable ? 1 : 0;
-            if (separable) spread_footprints_[q] = fp;
-          }
+          if constexpr (keep) spread_kind_[q] = separable ? kKeptSeparable : kKeptNone;
           if (separable) {
+            if constexpr (keep) spread_footprints_[q] = fp;
             spread_footprint(fp, &forces[3 * m], out);
           } else if (split_footprint<W>(&positions[3 * m], sp)) {
+            if constexpr (keep) {
+              spread_kind_[q] = kKeptSplit;
+              spread_split_[q] = sp;
+            }
             spread_footprint(sp, &forces[3 * m], out);
           } else if (std::isfinite(positions[3 * m]) && stencil(&positions[3 * m], s)) {
             for (int k = 0; k < s.count; ++k)
@@ -245,8 +248,12 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
     const std::size_t m = order[q];
     if constexpr (W == 4) {
       if (kept) {
-        if (spread_separable_[q]) {
+        if (spread_kind_[q] == kKeptSeparable) {
           interpolate_footprint(spread_footprints_[q], v, &out[3 * m]);
+          continue;
+        }
+        if (spread_kind_[q] == kKeptSplit) {
+          interpolate_footprint(spread_split_[q], v, &out[3 * m]);
           continue;
         }
       }

@@ -108,8 +108,11 @@ class ImmersedBoundary {
   mutable std::vector<int> first_;
   // The 4-point footprints of the last spread, in order_; interpolation at the same positions
   // (a coupled step spreads and interpolates at one set) reads them instead of recomputing.
+  // Those across the shifted x face (about a tenth of a dense run's markers) are kept too.
+  enum : std::uint8_t { kKeptNone, kKeptSeparable, kKeptSplit };
   mutable std::vector<IbFootprint<4>> spread_footprints_;
-  mutable std::vector<std::uint8_t> spread_separable_;
+  mutable std::vector<IbSplitFootprint<4>> spread_split_;
+  mutable std::vector<std::uint8_t> spread_kind_;
   mutable std::vector<double> spread_positions_;
 };
 
