@@ -13,6 +13,7 @@
 // special case the tests can check. Lattice units.
 #pragma once
 #include <array>
+#include <type_traits>
 #include <utility>
 
 #include "fluid/collision.hpp"
@@ -152,7 +153,11 @@ struct Mrt {
   /// omega+ and omega- as TRT's (the relaxation field stores these two per node).
   static RelaxationRates rates(double tau, double magic) { return Trt::rates(tau, magic); }
 
-  static void relax(double (&f)[D3Q19::q], const NodeState& s) {
+  /// Post-collision populations of one node, handed to store(std::integral_constant<int, I>,
+  /// value) direction by direction.
+  template <typename Store>
+  [[gnu::always_inline, gnu::flatten]] static void relax(const double (&f)[D3Q19::q],
+                                                         const NodeState& s, Store&& store) {
     using Rows = std::make_integer_sequence<int, D3Q19::q>;
     using Pairs = std::make_integer_sequence<int, mrt::kPairs>;
     const double uu = s.ux * s.ux + s.uy * s.uy + s.uz * s.uz;
@@ -219,10 +224,12 @@ struct Mrt {
         }
         (Rows{});
         if constexpr (P == 0) {
-          f[0] = f[0] + source_even[0] + even;
+          store(std::integral_constant<int, 0>{}, f[0] + source_even[0] + even);
         } else {
-          f[I] = f[I] + (source_even[P] + source_odd[P]) + (even + odd);
-          f[I + 1] = f[I + 1] + (source_even[P] - source_odd[P]) + (even - odd);
+          store(std::integral_constant<int, I>{},
+                f[I] + (source_even[P] + source_odd[P]) + (even + odd));
+          store(std::integral_constant<int, I + 1>{},
+                f[I + 1] + (source_even[P] - source_odd[P]) + (even - odd));
         }
       };
       (pair(std::integer_sequence<int, K>{}), ...);

@@ -6,6 +6,7 @@
 // in place for Poiseuille flow. Guo forcing split the same way (fluid/collision.hpp). Lattice
 // units.
 #pragma once
+#include <type_traits>
 #include <utility>
 
 #include "fluid/collision.hpp"
@@ -18,14 +19,18 @@ struct Trt {
     return {1.0 / tau, 1.0 / (0.5 + magic / (tau - 0.5))};
   }
 
-  /// Post-collision populations of one node, in place; directions unrolled at compile time.
-  static void relax(double (&f)[D3Q19::q], const NodeState& s) {
+  /// Post-collision populations of one node, handed to store(std::integral_constant<int, I>,
+  /// value) direction by direction; directions unrolled at compile time.
+  template <typename Store>
+  [[gnu::always_inline, gnu::flatten]] static void relax(const double (&f)[D3Q19::q],
+                                                         const NodeState& s, Store&& store) {
     const double op = s.omega_plus, om = s.omega_minus;
     const double uu = s.ux * s.ux + s.uy * s.uy + s.uz * s.uz;
     const double uf = s.ux * s.fx + s.uy * s.fy + s.uz * s.fz;
     const double kp = 1.0 - 0.5 * op, km = 1.0 - 0.5 * om;
-    f[0] = f[0] - op * (f[0] - D3Q19::w[0] * s.rho * (1.0 - 1.5 * uu)) +
-           kp * D3Q19::w[0] * (-3.0 * uf);
+    store(std::integral_constant<int, 0>{},
+          f[0] - op * (f[0] - D3Q19::w[0] * s.rho * (1.0 - 1.5 * uu)) +
+              kp * D3Q19::w[0] * (-3.0 * uf));
     auto pair = [&]<int I>(std::integer_sequence<int, I>) {
       constexpr double w = D3Q19::w[I];
       const double cu = kC<I, 0> * s.ux + kC<I, 1> * s.uy + kC<I, 2> * s.uz;
@@ -36,8 +41,8 @@ struct Trt {
       const double fm = 0.5 * (f[I] - f[I + 1]);
       const double dp = -op * (fp - feq_p) + kp * w * (9.0 * cu * cf - 3.0 * uf);
       const double dm = -om * (fm - feq_m) + km * w * 3.0 * cf;
-      f[I] = f[I] + dp + dm;
-      f[I + 1] = f[I + 1] + dp - dm;
+      store(std::integral_constant<int, I>{}, f[I] + dp + dm);
+      store(std::integral_constant<int, I + 1>{}, f[I + 1] + dp - dm);
     };
     [&]<int... K>(std::integer_sequence<int, K...>) {
       (pair(std::integer_sequence<int, 2 * K + 1>{}), ...);

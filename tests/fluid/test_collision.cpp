@@ -7,6 +7,7 @@
 #include <limits>
 #include <random>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 
 #include "fluid/collision_registry.hpp"
@@ -89,8 +90,8 @@ void relax_node(double* f, const double* F, const RelaxationRates& r) {
   const Moments m = moments(f, F[0], F[1], F[2]);
   double g[D3Q19::q];
   std::copy(f, f + D3Q19::q, g);
-  C::relax(g, NodeState{m.rho, m.ux, m.uy, m.uz, F[0], F[1], F[2], r.plus, r.minus});
-  std::copy(g, g + D3Q19::q, f);
+  C::relax(g, NodeState{m.rho, m.ux, m.uy, m.uz, F[0], F[1], F[2], r.plus, r.minus},
+           [&]<int I>(std::integral_constant<int, I>, double value) { f[I] = value; });
 }
 
 template <typename C>
