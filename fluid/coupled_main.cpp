@@ -91,20 +91,103 @@ void on_sigint(int) {
 }
 }  // namespace
 
-int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
-  // Key files first: a bad one stops the program before the lattice is built.
+namespace {
+
+/// The inside/outside viscosity field, built only when the scene asks for one (ratio 1 costs
+/// nothing).
+std::unique_ptr<ViscosityContrast> make_contrast(const Scene& scene, const FluidSolver& solver,
+                                                 const coupler::FluidSide& side) {
+  if (scene.fluid.viscosity_ratio == 1.0) return nullptr;
+  std::unique_ptr<ViscosityContrast> contrast;
+  try {
+    contrast =
+        std::make_unique<ViscosityContrast>(solver.lattice(), scene.lattice.tau, scene.tau_inner(),
+                                            side.cell_nodes(), side.cell_faces(), side.faces());
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(fmt::format("scene {}: [fluid] viscosity_ratio = {}: {}", scene.file,
+                                         scene.fluid.viscosity_ratio, e.what()));
+  }
+  spdlog::info("viscosity contrast {}: tau {} outside, {:.6g} inside the cells",
+               scene.fluid.viscosity_ratio, scene.lattice.tau, scene.tau_inner());
+  return contrast;
+}
+
+/// Rebuilds the viscosity field at the markers x on the steps [coupling] viscosity_field_every
+/// names (time-scale separation: held in between) and on the run's first step.
+void update_contrast(ViscosityContrast& contrast, const Scene& scene, FluidSolver& solver,
+                     std::span<const double> x, bool first, bool& warned_unpaired) {
+  if (!first && solver.steps() % scene.coupling.viscosity_field_every != 0) return;
+  contrast.update(x, solver.relaxation_field());
+  if (first) {
+    spdlog::info("viscosity contrast: {} nodes inside the cells at step {}",
+                 contrast.inside_nodes().size(), solver.steps());
+  }
+  if (contrast.unpaired_columns() > 0 && !warned_unpaired) {
+    spdlog::warn(
+        "viscosity contrast at step {}: {} lattice columns cross a membrane an odd number of times "
+        "(open or self-intersecting surface?); their inside is a guess",
+        solver.steps(), contrast.unpaired_columns());
+    warned_unpaired = true;
+  }
+}
+
+/// Wall time per phase of a coupled step: waiting for the membranes (their work plus the
+/// exchange), spreading, the inside/outside viscosity field, the lattice step, interpolating and
+/// sending.
+struct PhaseTimes {
+  using Clock = std::chrono::steady_clock;
+  double wait = 0, spread = 0, contrast = 0, fluid = 0, interpolate = 0;
+  Clock::time_point t0 = Clock::now();
+  void lap(double& phase) {
+    const auto t1 = Clock::now();
+    phase += std::chrono::duration<double>(t1 - t0).count();
+    t0 = t1;
+  }
+  void report(std::int64_t steps) const {
+    if (steps <= 0) return;
+    const double ms = 1e3 / static_cast<double>(steps);
+    spdlog::info(
+        "time per step [ms]: fluid {:.3f}, spread {:.3f}, viscosity field {:.3f}, "
+        "interpolate+send {:.3f}, waiting for the membranes {:.3f}",
+        fluid * ms, spread * ms, contrast * ms, interpolate * ms, wait * ms);
+  }
+};
+
+/// The progress line and the run file's sample, every [run] log_every steps.
+void log_progress(const Scene& scene, const FluidSolver& solver, FluidRunFile* out,
+                  std::int64_t steps, std::chrono::steady_clock::time_point start) {
+  const double secs =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto u = solver.mean_velocity();
+  if (out) out->sample(solver, gap_profile(solver, scene.cell_lu()).flux);
+  spdlog::info("step {:>8}  <u_x> {:.5g} m/s  {:.1f} steps/s", solver.steps(),
+               scene.units().velocity_m_s(u[0]), steps / secs);
+  if (!std::isfinite(u[0])) {
+    throw std::runtime_error(
+        fmt::format("fluid diverged (NaN mean velocity) at step {}", solver.steps()));
+  }
+}
+
+/// The coupler's side of the fluid. Reads the key files: call it before building the lattice, so
+/// a bad one stops the program first.
+coupler::FluidConfig side_config(const Scene& scene, const CoupledOptions& opt) {
   const auto curve =
       coupler::curve_for(opt.endpoint, opt.security, coupler::Side::server, "dld-fluid");
-  FluidSolver solver(fluid_config(scene));
-  const ImmersedBoundary ib(solver.lattice(), ib_kernel_from_name(scene.coupling.ib_kernel));
-  const LatticeUnits units = scene.units();
-
   coupler::FluidConfig fc;
   fc.scene = coupler::scene_identity(scene, static_cast<std::uint32_t>(opt.cells));
   fc.endpoints = coupler::peer_endpoints(opt.endpoint, static_cast<std::size_t>(opt.peers));
   fc.options.timeout =
       std::chrono::milliseconds(static_cast<long>(scene.coupling.timeout_s * 1000));
   fc.options.curve = curve;
+  return fc;
+}
+
+}  // namespace
+
+int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
+  const coupler::FluidConfig fc = side_config(scene, opt);
+  FluidSolver solver(fluid_config(scene));
+  const ImmersedBoundary ib(solver.lattice(), ib_kernel_from_name(scene.coupling.ib_kernel));
   coupler::FluidSide side(fc);
 
   // The run file's time series up to the checkpoint comes with it: a resumed run file is whole.
@@ -114,13 +197,9 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
                  read_checkpoint(opt.resume, scene, solver, &timeseries));
   }
   std::unique_ptr<FluidRunFile> out;
-  if (!opt.output.empty()) {
-    out = std::make_unique<FluidRunFile>(scene, opt.output, timeseries);
-  }
+  if (!opt.output.empty()) out = std::make_unique<FluidRunFile>(scene, opt.output, timeseries);
   auto checkpoint = [&] {
-    if (opt.checkpoint.empty()) {
-      return;
-    }
+    if (opt.checkpoint.empty()) return;
     write_checkpoint(opt.checkpoint, scene, solver, out ? out->timeseries() : timeseries);
     spdlog::info("checkpoint at step {}: {}", solver.steps(), opt.checkpoint);
   };
@@ -128,99 +207,39 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     side.initialize();
     spdlog::info("coupled with {} membrane process(es), {} markers; {} kernel", side.peer_count(),
                  side.node_count(), scene.coupling.ib_kernel);
-    // Viscosity contrast: only built when the scene asks for it (ratio 1 costs nothing).
-    std::unique_ptr<ViscosityContrast> contrast;
-    if (scene.fluid.viscosity_ratio != 1.0) {
-      try {
-        contrast = std::make_unique<ViscosityContrast>(solver.lattice(), scene.lattice.tau,
-                                                       scene.tau_inner(), side.cell_nodes(),
-                                                       side.cell_faces(), side.faces());
-      } catch (const std::invalid_argument& e) {
-        throw std::runtime_error(fmt::format("scene {}: [fluid] viscosity_ratio = {}: {}",
-                                             scene.file, scene.fluid.viscosity_ratio, e.what()));
-      }
-      spdlog::info("viscosity contrast {}: tau {} outside, {:.6g} inside the cells",
-                   scene.fluid.viscosity_ratio, scene.lattice.tau, scene.tau_inner());
-    }
+    const std::unique_ptr<ViscosityContrast> contrast = make_contrast(scene, solver, side);
     bool warned_unpaired = false;
     std::vector<double> velocity;
     const auto start = std::chrono::steady_clock::now();
     std::int64_t steps = 0;
-    // Wall time per phase: waiting for the membranes (their work plus the exchange), spreading,
-    // the inside/outside viscosity field, the lattice step, interpolating and sending.
-    using Clock = std::chrono::steady_clock;
-    double t_wait = 0, t_spread = 0, t_contrast = 0, t_fluid = 0, t_interp = 0;
-    auto lap = [](Clock::time_point& t0, double& acc) {
-      const auto t1 = Clock::now();
-      acc += std::chrono::duration<double>(t1 - t0).count();
-      t0 = t1;
-    };
+    PhaseTimes t;
     signal(SIGINT, on_sigint);
     signal(SIGBUS, on_sigbus);
-    auto t0 = Clock::now();
     while (!g_stop && side.receive()) {
-      lap(t0, t_wait);
+      t.lap(t.wait);
       const auto x = side.positions();
-      const auto f = side.forces();
-      ib.spread(x, f, solver.force_field());
-      lap(t0, t_spread);
-      // Time-scale separation ([coupling] viscosity_field_every): the field is held in between.
-      if (contrast && (steps == 0 || solver.steps() % scene.coupling.viscosity_field_every == 0)) {
-        contrast->update(x, solver.relaxation_field());
-        if (steps == 0) {
-          spdlog::info("viscosity contrast: {} nodes inside the cells at step {}",
-                       contrast->inside_nodes().size(), solver.steps());
-        }
-        if (contrast->unpaired_columns() > 0 && !warned_unpaired) {
-          spdlog::warn(
-              "viscosity contrast at step {}: {} lattice columns cross a membrane an odd number of "
-              "times (open or self-intersecting surface?); their inside is a guess",
-              solver.steps(), contrast->unpaired_columns());
-          warned_unpaired = true;
-        }
-      }
-      lap(t0, t_contrast);
+      ib.spread(x, side.forces(), solver.force_field());
+      t.lap(t.spread);
+      if (contrast) update_contrast(*contrast, scene, solver, x, steps == 0, warned_unpaired);
+      t.lap(t.contrast);
       solver.step();
-      lap(t0, t_fluid);
+      t.lap(t.fluid);
       require_finite_lattice(solver);
       velocity.resize(x.size());
       ib.interpolate(x, solver.velocity_field(), velocity);
       require_resolved_velocities(velocity, side, solver.steps());
       side.send_velocities(velocity);
-      lap(t0, t_interp);
+      t.lap(t.interpolate);
       ++steps;
-      if (opt.checkpoint_every > 0 && solver.steps() % opt.checkpoint_every == 0) {
-        checkpoint();
-      }
-      if (steps % scene.run.log_every == 0) {
-        const double secs =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const auto u = solver.mean_velocity();
-        if (out) {
-          out->sample(solver, gap_profile(solver, scene.cell_lu()).flux);
-        }
-        spdlog::info("step {:>8}  <u_x> {:.5g} m/s  {:.1f} steps/s", solver.steps(),
-                     units.velocity_m_s(u[0]), steps / secs);
-        if (!std::isfinite(u[0])) {
-          throw std::runtime_error(
-              fmt::format("fluid diverged (NaN mean velocity) at step {}", solver.steps()));
-        }
-      }
+      if (opt.checkpoint_every > 0 && solver.steps() % opt.checkpoint_every == 0) checkpoint();
+      if (steps % scene.run.log_every == 0) log_progress(scene, solver, out.get(), steps, start);
     }
-    if (out && scene.output.fields) {
-      out->snapshot(solver);
-    }
+    if (out && scene.output.fields) out->snapshot(solver);
     side.finalize();
     checkpoint();
     spdlog::info("{} after {} steps", g_stop ? "interrupted: run ended" : "membranes ended the run",
                  steps);
-    if (steps > 0) {
-      const double ms = 1e3 / static_cast<double>(steps);
-      spdlog::info(
-          "time per step [ms]: fluid {:.3f}, spread {:.3f}, viscosity field {:.3f}, "
-          "interpolate+send {:.3f}, waiting for the membranes {:.3f}",
-          t_fluid * ms, t_spread * ms, t_contrast * ms, t_interp * ms, t_wait * ms);
-    }
+    t.report(steps);
     return 0;
   } catch (const coupler::CouplerError& e) {
     spdlog::error("{}", e.what());

@@ -14,11 +14,34 @@ namespace {
 int floor_div(int a, int n) {
   return a >= 0 ? a / n : -((-a + n - 1) / n);
 }
+
+/// The z layers a stencil at height Z reaches: padded index of (-1, -1, k) and weight of each
+/// (by walls the layers outside are left out; periodic z wraps); returns how many.
+int stencil_layers(const Lattice& L, IbKernel kernel, double Z, std::size_t* zoff, double* wz) {
+  const Domain& d = L.domain();
+  const double h = half_width(kernel);
+  const int k0 = static_cast<int>(std::ceil(Z - 0.5 - h)),
+            k1 = static_cast<int>(std::floor(Z - 0.5 + h));
+  int n = 0;
+  for (int k = k0; k <= k1 && n < 4; ++k) {
+    int kw = k;
+    if (d.walls_z) {
+      if (k < 0 || k >= d.nz) continue;
+    } else {
+      kw = ((k % d.nz) + d.nz) % d.nz;
+    }
+    const double w = phi(kernel, k + 0.5 - Z);
+    if (w == 0.0) continue;
+    zoff[n] = L.index(-1, -1, kw);
+    wz[n++] = w;
+  }
+  return n;
+}
 }  // namespace
 
 bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
   const Domain& d = lattice_.domain();
-  const int nx = d.nx, ny = d.ny, nz = d.nz;
+  const int nx = d.nx, ny = d.ny;
   const double h = half_width(kernel_);
   // Fold x into [0, nx) (moving by a box in x moves the frame by the shift in y).
   double X = p[0], Y = p[1], Z = p[2];
@@ -30,26 +53,11 @@ bool ImmersedBoundary::stencil(const double* p, IbStencil& s) const {
   // Weights per axis once per marker (the kernel is a product); z is the same for every column.
   const int i0 = static_cast<int>(std::ceil(X - 0.5 - h)),
             i1 = static_cast<int>(std::floor(X - 0.5 + h));
-  const int k0 = static_cast<int>(std::ceil(Z - 0.5 - h)),
-            k1 = static_cast<int>(std::floor(Z - 0.5 + h));
-  int kz[4], nzk = 0;
+  std::size_t zoff[4];  // padded index of (-1, -1, k) for the stencil's z layers
   double wz[4];
-  for (int k = k0; k <= k1 && nzk < 4; ++k) {
-    int kw = k;
-    if (d.walls_z) {
-      if (k < 0 || k >= nz) continue;
-    } else {
-      kw = ((k % nz) + nz) % nz;
-    }
-    const double w = phi(kernel_, k + 0.5 - Z);
-    if (w == 0.0) continue;
-    kz[nzk] = kw;
-    wz[nzk++] = w;
-  }
+  const int nzk = stencil_layers(lattice_, kernel_, Z, zoff, wz);
   const std::uint8_t* solid = lattice_.solid_mask().data();
   const std::size_t px = static_cast<std::size_t>(lattice_.px());
-  std::size_t zoff[4];  // padded index of (-1, -1, k) for the stencil's z layers
-  for (int q = 0; q < nzk; ++q) zoff[q] = lattice_.index(-1, -1, kz[q]);
   // y weights depend on the column's box only (shifted frame): compute them once per box.
   int cached_box = 2, j0 = 0, nyj = 0;
   double wy[4];
