@@ -30,6 +30,16 @@ struct Moments {
   double rho, ux, uy, uz;
 };
 
+/// c_I . u and c_I . F of a node, with direction I's components as compile-time constants.
+struct Projections {
+  double cu, cf;
+};
+template <int I>
+[[gnu::always_inline]] inline Projections projections(const NodeState& s) {
+  return {kC<I, 0> * s.ux + kC<I, 1> * s.uy + kC<I, 2> * s.uz,
+          kC<I, 0> * s.fx + kC<I, 1> * s.fy + kC<I, 2> * s.fz};
+}
+
 template <typename Real>
 inline Moments moments(const Real* f, double fx, double fy, double fz) {
   double rho = 0, jx = 0, jy = 0, jz = 0;

@@ -29,8 +29,7 @@ struct Bgk {
               k * D3Q19::w[0] * (-3.0 * uf));
     auto pair = [&]<int I>(std::integer_sequence<int, I>) {
       constexpr double w = D3Q19::w[I];
-      const double cu = kC<I, 0> * s.ux + kC<I, 1> * s.uy + kC<I, 2> * s.uz;
-      const double cf = kC<I, 0> * s.fx + kC<I, 1> * s.fy + kC<I, 2> * s.fz;
+      const auto [cu, cf] = projections<I>(s);
       const double even = w * s.rho * (1.0 + 4.5 * cu * cu - 1.5 * uu), odd = w * s.rho * 3.0 * cu;
       const double source_even = k * w * (9.0 * cu * cf - 3.0 * uf), source_odd = k * w * 3.0 * cf;
       store(std::integral_constant<int, I>{},

@@ -173,8 +173,7 @@ struct Mrt {
       auto pair = [&]<int P>(std::integer_sequence<int, P>) {
         constexpr int I = 2 * P - 1;
         constexpr double w = D3Q19::w[I];
-        const double cu = kC<I, 0> * s.ux + kC<I, 1> * s.uy + kC<I, 2> * s.uz;
-        const double cf = kC<I, 0> * s.fx + kC<I, 1> * s.fy + kC<I, 2> * s.fz;
+        const auto [cu, cf] = projections<I>(s);
         source_even[P] = w * (9.0 * cu * cf - 3.0 * uf);
         source_odd[P] = w * 3.0 * cf;
         const double eq_even = w * s.rho * (1.0 + 4.5 * cu * cu - 1.5 * uu);

@@ -33,8 +33,7 @@ struct Trt {
               kp * D3Q19::w[0] * (-3.0 * uf));
     auto pair = [&]<int I>(std::integer_sequence<int, I>) {
       constexpr double w = D3Q19::w[I];
-      const double cu = kC<I, 0> * s.ux + kC<I, 1> * s.uy + kC<I, 2> * s.uz;
-      const double cf = kC<I, 0> * s.fx + kC<I, 1> * s.fy + kC<I, 2> * s.fz;
+      const auto [cu, cf] = projections<I>(s);
       const double feq_p = w * s.rho * (1.0 + 4.5 * cu * cu - 1.5 * uu);
       const double feq_m = w * s.rho * 3.0 * cu;
       const double fp = 0.5 * (f[I] + f[I + 1]);
