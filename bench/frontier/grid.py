@@ -21,8 +21,10 @@ KNOBS = {
 }
 KINDS = {"dilute": ("row_shift_um", "capillary_number", "columns"),
          "dense": ("row_shift_um", "capillary_number", "cells", "t_pprime_Pa_s_per_m"),
-         "stability": ("row_shift_um", "capillary_number", "cells", "steps")}
-OPTIONAL = {"dilute": ("reference_run",), "dense": ("seed",), "stability": ("seed",)}
+         "stability": ("row_shift_um", "capillary_number", "cells", "steps"),
+         "capsule": ("capillary_number", "strain")}
+OPTIONAL = {"dilute": ("reference_run",), "dense": ("seed",), "stability": ("seed",),
+            "capsule": ("literature_D", "literature")}
 
 
 def _num(v):
@@ -102,6 +104,11 @@ def _problem(path, i, t):
                 and 1 <= c[0] < c[1] <= 200):
             raise GridError(f"{path}: {where} ({name}): 'columns' = {c!r}: expected [first, last] "
                             "whole columns, 1 <= first < last <= 200")
+    elif kind == "capsule":
+        if not (_num(t["capillary_number"]) and 0 < t["capillary_number"] <= 10):
+            raise GridError(f"{path}: {where} ({name}): 'capillary_number' must be in (0, 10]")
+        if not (_num(t["strain"]) and 0 < t["strain"] <= 100):
+            raise GridError(f"{path}: {where} ({name}): 'strain' (gammadot t) must be in (0, 100]")
     else:
         if kind == "stability" and not (_int(t["steps"]) and 1 <= t["steps"] <= 10**9):
             raise GridError(f"{path}: {where} ({name}): 'steps' = {t['steps']!r}: expected 1..10^9")

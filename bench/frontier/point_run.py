@@ -9,6 +9,9 @@ Measurements (SPEC 7; issue 17):
   dense   suspension mobility u_x / u_x,empty at t p' = t_pprime (box-mean u_x of the coupled run
           against dld-fluid alone on the same lattice, both from rest, interpolated at that time)
           and the largest volume change of any cell.
+  capsule the capsule in shear (tests/validation: Ramanujan & Pozrikidis 1998's benchmark): steady
+          Taylor deformation D (mean over the last 30 % of the strain); the knobs map onto it as
+          capsule_args() says. Cost: wall seconds per run (one core; no pillars).
 Cost: steps per pillar (dilute: between the two crossings; dense: lambda / mean u_x) and the
 coupled steps per second of the run (the membrane log's last progress line), so wall seconds per
 pillar = steps per pillar / steps per second, on one core per run."""
@@ -205,10 +208,65 @@ def _external(problem, point, stem):
     return dilute_metrics(stem, problem.values["columns"])
 
 
+# The capsule problem at the reference lattice spacing: the validation's set-up (docs/validation.md:
+# a = 6 nodes, box 8a x 8a x 10a, 1280 faces) at dx 0.4 um, i.e. a = 2.4 um.
+CAPSULE_RADIUS_UM, CAPSULE_FACES_AT_2000 = 2.4, 1280
+
+
+def capsule_args(problem, point):
+    """dld-capsule-shear's options for a point: dx sets a = 2.4 um / dx nodes (box 8a x 8a x 10a),
+    mesh_faces scales the icosphere (1280 faces at the DLD mesh's 2000; the nearest 20 * 4^n is
+    used), reynolds is the capsule's Re = gammadot a^2 / nu (0.1 at the reference, as the
+    validation), ib_kernel and force_every as in a coupled run; viscosity_field_every does not
+    apply (viscosity ratio 1, as the benchmark)."""
+    k = point.knobs
+    a = CAPSULE_RADIUS_UM / k["dx_um"]
+    return ["--ca", repr(float(problem.values["capillary_number"])), "--radius", f"{a:.6g}",
+            "--nx", str(round(8 * a)), "--ny", str(round(8 * a)), "--nz", str(round(10 * a)),
+            "--faces", str(round(CAPSULE_FACES_AT_2000 * k["mesh_faces"] / 2000)),
+            "--re", repr(float(k["reynolds"])), "--ib-kernel", k["ib_kernel"],
+            "--force-every", str(k["force_every"]), "--strain", repr(float(problem.values["strain"])),
+            "--sample-every", "20", "--transport", "inproc"]
+
+
+def run_capsule(problem, point, d, exe):
+    """One capsule run (or its kept result when the options are unchanged)."""
+    args = capsule_args(problem, point)
+    args_file, result_file = os.path.join(d, "args.txt"), os.path.join(d, "result.json")
+    same = os.path.exists(args_file) and open(args_file).read() == " ".join(args) + "\n"
+    if same and os.path.exists(result_file):
+        with open(result_file) as f:
+            return json.load(f)
+    with open(args_file, "w") as f:
+        f.write(" ".join(args) + "\n")
+    out = os.path.join(d, "run.out")
+    with open(out, "w") as log:
+        r = subprocess.run([exe["capsule"], *args, "--csv", os.path.join(d, "run.csv")],
+                           stdout=log, stderr=subprocess.STDOUT, env={**os.environ,
+                                                                    "OMP_NUM_THREADS": "1"})
+    text = open(out, errors="replace").read()
+    if r.returncode != 0:
+        why = (text.strip().splitlines() or [f"exit code {r.returncode}"])[-1]
+        return _keep(result_file, {"status": "failed", "why": why})
+    steady = re.search(r"steady D \(mean over gammadot t >= [0-9.]+\) = ([0-9.]+)", text)
+    cost = re.search(r"steps (\d+) wall ([0-9.]+) s .*volume change ([-0-9.e+]+)", text)
+    if not steady or not cost:
+        return _keep(result_file, {"status": "failed", "why": "no steady D in " + out})
+    res = {"status": "ok", "D": float(steady.group(1)), "steps": int(cost.group(1)),
+           "wall_s": float(cost.group(2)), "volume_change_pct": 100 * abs(float(cost.group(3)))}
+    res["steps_per_s"] = res["steps"] / res["wall_s"] if res["wall_s"] > 0 else math.nan
+    lit = problem.values.get("literature_D")
+    if lit:
+        res["literature_error"] = (res["D"] - lit) / lit
+    return _keep(result_file, res)
+
+
 def run(grid, problem, point, out, exe):
     """Runs (or resumes, or reads) one point and returns its result (also kept as result.json)."""
     d = os.path.join(out, problem.name, point.name)
     os.makedirs(d, exist_ok=True)
+    if problem.kind == "capsule":
+        return run_capsule(problem, point, d, exe)
     stem, result_file = os.path.join(d, "run"), os.path.join(d, "result.json")
     if point.name == "reference" and "reference_run" in problem.values:
         return _external(problem, point, problem.values["reference_run"])

@@ -235,7 +235,7 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
       };
       for (std::int64_t step = 0; step < run.steps; ++step) {
         if (step % s.sample_every == 0) sample(step);
-        cells.compute_forces(force);
+        if (step % s.force_every == 0) cells.compute_forces(force);
         if (!side.advance(cells.flat_positions(),
                           {force.data(), static_cast<std::size_t>(force.size())}, velocity))
           throw std::runtime_error(fmt::format("the fluid ended the run at step {}", step));

@@ -37,6 +37,9 @@ struct CapsuleShearSetup {
   std::int64_t steps = 0;        ///< if > 0: run exactly this many steps instead of `strain`
   int sample_every = 50;         ///< steps between shape samples
   fluid::IbKernel kernel = fluid::IbKernel::kPeskin4;
+  /// Membrane forces recomputed every force_every steps and held in between (spread at the
+  /// nodes' current positions every step), as [coupling] force_every does in a coupled run.
+  int force_every = 1;
   Transport transport = Transport::inproc;
 };
 

@@ -8,11 +8,12 @@
 #include <iostream>
 
 #include "capsule_shear.hpp"
+#include "fluid/ib_kernel.hpp"
 
 int main(int argc, char** argv) {
   using namespace dld::validation;
   CapsuleShearSetup s;
-  std::string transport = "inproc", law = "neo_hookean", csv;
+  std::string transport = "inproc", law = "neo_hookean", csv, kernel = "peskin4";
   int box = 0;
   double settled = 0.3;
   CLI::App app{
@@ -35,11 +36,21 @@ int main(int argc, char** argv) {
   app.add_option("--viscosity-ratio", s.viscosity_ratio, "lambda = inner / outer viscosity")
       ->check(CLI::PositiveNumber);
   app.add_option("--transport", transport, "inproc, ipc or tcp");
+  app.add_option("--ib-kernel", kernel, "peskin2, peskin3 or peskin4");
+  app.add_option("--force-every", s.force_every,
+                 "membrane forces every N steps, held in between ([coupling] force_every)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--settled", settled, "steady D: mean over the last fraction of the strain");
   app.add_option("--csv", csv, "write gammadot_t, D, inclination, volume ratio here");
   CLI11_PARSE(app, argc, argv);
   if (box > 0) s.nx = s.ny = s.nz = box;
-  s.transport = transport_from_name(transport);
+  try {
+    s.transport = transport_from_name(transport);
+    s.kernel = dld::fluid::ib_kernel_from_name(kernel);
+  } catch (const std::exception& e) {
+    std::cerr << "dld-capsule-shear: error: " << e.what() << "\n";
+    return 2;
+  }
   if (law == "skalak")
     s.law = MembraneLaw::skalak;
   else if (law != "neo_hookean") {
@@ -61,11 +72,11 @@ int main(int argc, char** argv) {
     }
     fmt::print(
         "capsule {} Ca {} a {} box {}x{}x{} (a/H {:.4f}) faces {} nodes {} Re {} tau {} "
-        "gammadot {:.4e} G_s {:.4e} transport {}\n",
+        "gammadot {:.4e} G_s {:.4e} transport {} kernel {} forces every {}\n",
         law, s.capillary, s.radius, s.nx, s.ny, s.nz, s.radius / s.nz, r.faces, r.nodes, s.reynolds,
-        s.tau, r.gammadot, r.shear_modulus, name(s.transport));
+        s.tau, r.gammadot, r.shear_modulus, name(s.transport), kernel, s.force_every);
     fmt::print(
-        "steps {} wall {:.1f} s ({:.2f} ms/step); volume change {:.2e}; spread error {:.1e}\n",
+        "steps {} wall {:.3f} s ({:.2f} ms/step); volume change {:.2e}; spread error {:.1e}\n",
         r.steps, r.wall_seconds, 1e3 * r.wall_seconds / r.steps, r.volume.back() - 1.0,
         r.spread_error);
     fmt::print(
