@@ -18,7 +18,12 @@ KNOBS = {
     "force_every": ("coupling.force_every", lambda v: _int(v) and 1 <= v <= 1000, "steps 1..1000"),
     "viscosity_field_every": ("coupling.viscosity_field_every",
                               lambda v: _int(v) and 1 <= v <= 1000, "steps 1..1000"),
+    "collision": ("lattice.collision", lambda v: v in ("trt", "bgk", "mrt"),
+                  '"trt", "bgk" or "mrt"'),
 }
+# Knobs a grid may leave out of [reference]: their value where no point names them (a grid made
+# before the knob existed keeps its runs: scenes name such a knob only where a point changes it).
+KNOB_DEFAULTS = {"collision": "trt"}
 KINDS = {"dilute": ("row_shift_um", "capillary_number", "columns"),
          "dense": ("row_shift_um", "capillary_number", "cells", "t_pprime_Pa_s_per_m"),
          "stability": ("row_shift_um", "capillary_number", "cells", "steps"),
@@ -76,7 +81,7 @@ def _check_knobs(path, where, table, require_all):
         if not KNOBS[k][1](v):
             raise GridError(f"{path}: {where}: '{k}' = {v!r}: expected {KNOBS[k][2]}")
     if require_all:
-        missing = [k for k in KNOBS if k not in table]
+        missing = [k for k in KNOBS if k not in table and k not in KNOB_DEFAULTS]
         if missing:
             raise GridError(f"{path}: {where}: missing knob(s) {', '.join(missing)} "
                             "(the reference names every knob)")
@@ -142,6 +147,7 @@ def load(path):
     problems = [_problem(path, i, t) for i, t in enumerate(doc.get("problem", []))]
     if not problems:
         raise GridError(f"{path}: no [[problem]]")
+    ref = {**KNOB_DEFAULTS, **ref}
     points = [Point("reference", dict(ref))]
     for i, t in enumerate(doc.get("point", [])):
         name = t.get("name")

@@ -24,7 +24,7 @@ import subprocess
 import numpy as np
 
 import scene_text
-from grid import KNOBS
+from grid import KNOB_DEFAULTS, KNOBS
 
 os.environ.setdefault("HDF5_USE_FILE_LOCKING", "FALSE")
 import h5py  # noqa: E402
@@ -40,7 +40,8 @@ def scene_for(grid, problem, point, stem):
     scene_text.set_key(doc, "geometry.row_shift_um", float(v["row_shift_um"]))
     scene_text.set_key(doc, "membrane.capillary_number", float(v["capillary_number"]))
     for knob, value in point.knobs.items():
-        scene_text.set_key(doc, KNOBS[knob][0], value)
+        if KNOB_DEFAULTS.get(knob) != value:  # a default left out keeps older runs' scenes
+            scene_text.set_key(doc, KNOBS[knob][0], value)
     scene_text.set_key(doc, "output.file", stem + ".h5")
     scene_text.set_key(doc, "output.fields", False)
     scene_text.set_key(doc, "run.threads", 1)
@@ -189,7 +190,7 @@ def _write_scene(path, doc):
 
 
 # What a scene means when it does not name a knob (docs/scene-keys.md).
-DEFAULTS = {"ib_kernel": "peskin4", "force_every": 1, "viscosity_field_every": 1}
+DEFAULTS = {"ib_kernel": "peskin4", "force_every": 1, "viscosity_field_every": 1, **KNOB_DEFAULTS}
 
 
 def _external(problem, point, stem):
@@ -217,7 +218,7 @@ def capsule_args(problem, point):
     """dld-capsule-shear's options for a point: dx sets a = 2.4 um / dx nodes (box 8a x 8a x 10a),
     mesh_faces scales the icosphere (1280 faces at the DLD mesh's 2000; the nearest 20 * 4^n is
     used), reynolds is the capsule's Re = gammadot a^2 / nu (0.1 at the reference, as the
-    validation), ib_kernel and force_every as in a coupled run; viscosity_field_every does not
+    validation), ib_kernel, force_every and collision as in a coupled run; viscosity_field_every does not
     apply (viscosity ratio 1, as the benchmark)."""
     k = point.knobs
     a = CAPSULE_RADIUS_UM / k["dx_um"]
@@ -226,7 +227,8 @@ def capsule_args(problem, point):
             "--faces", str(round(CAPSULE_FACES_AT_2000 * k["mesh_faces"] / 2000)),
             "--re", repr(float(k["reynolds"])), "--ib-kernel", k["ib_kernel"],
             "--force-every", str(k["force_every"]), "--strain", repr(float(problem.values["strain"])),
-            "--sample-every", "20", "--transport", "inproc"]
+            "--sample-every", "20", "--transport", "inproc"] + (
+                [] if k["collision"] == KNOB_DEFAULTS["collision"] else ["--collision", k["collision"]])
 
 
 def run_capsule(problem, point, d, exe):

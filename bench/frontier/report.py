@@ -20,7 +20,7 @@ FLOOR = 1e-4  # where a zero error is drawn on the log axis
 
 
 GUIDE = """\
-Each point changes numerics only (lattice spacing, mesh, Reynolds number, kernel, update
+Each point changes numerics only (lattice spacing, mesh, Reynolds number, kernel, collision operator, update
 intervals); the cell is the same at every point (C = 350.3 Ca, kappa_V, contact range relative
 to r: `StudyCell` test). Errors are against the grid's reference point, which is itself only as
 converged as the table shows (compare it with the point that refines it, e.g. Re 0.05):

@@ -138,7 +138,7 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
   fc.domain.walls_z = true;
   fc.domain.wall_velocity_low = {-run.wall_speed, 0, 0};
   fc.domain.wall_velocity_high = {run.wall_speed, 0, 0};
-  fc.collision = CollisionKind::kTrt;
+  fc.collision = s.collision;
   fc.tau = s.tau;
   fluid::FluidSolver solver(fc);
   start_in_shear(solver, run.gammadot);

@@ -12,6 +12,7 @@
 
 #include "fluid/ib_kernel.hpp"
 #include "membrane/mesh.hpp"
+#include "shared/scene.hpp"
 
 namespace dld::validation {
 
@@ -40,6 +41,7 @@ struct CapsuleShearSetup {
   /// Membrane forces recomputed every force_every steps and held in between (spread at the
   /// nodes' current positions every step), as [coupling] force_every does in a coupled run.
   int force_every = 1;
+  CollisionKind collision = CollisionKind::kTrt;  ///< the lattice's collision operator
   Transport transport = Transport::inproc;
 };
 

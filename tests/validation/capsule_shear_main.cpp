@@ -4,8 +4,10 @@
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 
 #include "capsule_shear.hpp"
 #include "fluid/ib_kernel.hpp"
@@ -13,7 +15,7 @@
 int main(int argc, char** argv) {
   using namespace dld::validation;
   CapsuleShearSetup s;
-  std::string transport = "inproc", law = "neo_hookean", csv, kernel = "peskin4";
+  std::string transport = "inproc", law = "neo_hookean", csv, kernel = "peskin4", collision = "trt";
   int box = 0;
   double settled = 0.3;
   CLI::App app{
@@ -37,6 +39,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--transport", transport, "inproc, ipc or tcp");
   app.add_option("--ib-kernel", kernel, "peskin2, peskin3 or peskin4");
+  app.add_option("--collision", collision, "trt, bgk or mrt");
   app.add_option("--force-every", s.force_every,
                  "membrane forces every N steps, held in between ([coupling] force_every)")
       ->check(CLI::PositiveNumber);
@@ -47,6 +50,11 @@ int main(int argc, char** argv) {
   try {
     s.transport = transport_from_name(transport);
     s.kernel = dld::fluid::ib_kernel_from_name(kernel);
+    const auto& names = dld::kCollisionNames;
+    const auto it = std::find(names.begin(), names.end(), collision);
+    if (it == names.end())
+      throw std::invalid_argument("--collision '" + collision + "': expected trt, bgk or mrt");
+    s.collision = static_cast<dld::CollisionKind>(it - names.begin());
   } catch (const std::exception& e) {
     std::cerr << "dld-capsule-shear: error: " << e.what() << "\n";
     return 2;
