@@ -15,6 +15,7 @@
 #include "fluid/fluid_solver.hpp"
 #include "fluid/immersed_boundary.hpp"
 #include "fluid/viscosity_contrast.hpp"
+#include "tests/common/base_scene.hpp"
 #ifdef DLD_BENCH_CELLS
 #include "membrane/sphere_mesh.hpp"
 #endif
@@ -34,20 +35,7 @@ constexpr double kBytesPerUpdate = 3 * 19 * 8;
 constexpr double kStateBytesPerNode = 2 * 19 * 8 + 1;  // two population arrays + solid flag
 
 FluidConfig dld_config() {
-  const dld::Scene s = dld::parse_scene(R"(
-[scene]
-name = "bench"
-[geometry]
-pillar_radius_um = 10.0
-pillar_spacing_um = 32.0
-depth_um = 4.8
-row_shift_um = 4.4
-[lattice]
-dx_um = 0.4
-[drive]
-reynolds = 0.1
-)",
-                                        "bench.toml");
+  const dld::Scene s = dld::parse_scene(dld::testing::kBaseScene, "bench.toml");
   return dld::fluid::fluid_config(s);
 }
 

@@ -7,22 +7,11 @@
 #include <string>
 
 #include "shared/scene.hpp"
+#include "tests/common/base_scene.hpp"
 
 namespace {
 
-const char* kGood = R"(
-[scene]
-name = "t"
-[geometry]
-pillar_radius_um = 10.0
-pillar_spacing_um = 32.0
-depth_um = 4.8
-row_shift_um = 4.4
-[lattice]
-dx_um = 0.4
-[drive]
-reynolds = 0.1
-)";
+const char* const kGood = dld::testing::kBaseScene;
 
 std::string replace(std::string text, const std::string& from, const std::string& to) {
   auto pos = text.find(from);
