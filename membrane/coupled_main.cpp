@@ -60,6 +60,11 @@ Share share_of(const Scene& scene, const MembraneScene& m, const CoupledArgs& a)
   const int first = total * a.peer / a.peers, last = total * (a.peer + 1) / a.peers;
   CellSet cells(all.reference(), all.mechanics(), all.contact());
   for (int k = first; k < last; ++k) cells.add_cell(Points(all.cell_positions(k)));
+  if (a.peers > 1 && total > 1 && a.peer == 0)
+    spdlog::warn(
+        "{} membrane processes: contact between cells of different processes is not "
+        "computed yet (they can pass through each other); use one for a suspension",
+        a.peers);
   return {std::move(cells), total, first};
 }
 
