@@ -188,7 +188,7 @@ void BM_ViscosityField(benchmark::State& state) {
   std::vector<double> x;
   std::vector<std::uint32_t> nodes, faces, ids;
   for (int c = 0; c < cells; ++c) {
-    const double* o = &centres[std::size_t{3 * 1002} * static_cast<std::size_t>(c)];
+    const double* o = &centres[std::size_t{3} * 1002 * static_cast<std::size_t>(c)];
     for (int n = 0; n < m.node_count(); ++n)
       x.insert(x.end(), {o[0] + m.nodes(0, n), o[1] + m.nodes(1, n),
                          0.5 * s.lattice().nz() + 0.35 * m.nodes(2, n)});

@@ -47,7 +47,7 @@ TEST(ImmersedBoundary, SpreadingConservesTotalForceEverywhere) {
   std::uniform_real_distribution<double> ux(-30.0, 50.0), uy(-25.0, 45.0), uz(0.3, 9.7),
       uf(-1.0, 1.0);
   std::vector<double> pos, frc;
-  while (pos.size() < 3 * 400) {
+  while (pos.size() < std::size_t{3} * 400) {
     const double p[3] = {ux(rng), uy(rng), uz(rng)};
     // Keep markers out of the pillar itself (there the fluid has no node to receive force).
     double x = std::fmod(std::fmod(p[0], 24.0) + 24.0, 24.0);

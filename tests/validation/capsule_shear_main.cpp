@@ -11,8 +11,9 @@
 
 #include "capsule_shear.hpp"
 #include "fluid/ib_kernel.hpp"
+#include "shared/guarded_main.hpp"
 
-int main(int argc, char** argv) {
+static int run_main(int argc, char** argv) {
   using namespace dld::validation;
   CapsuleShearSetup s;
   std::string transport = "inproc", law = "neo_hookean", csv, kernel = "peskin4", collision = "trt";
@@ -96,4 +97,8 @@ int main(int argc, char** argv) {
     std::cerr << "dld-capsule-shear: error: " << e.what() << "\n";
     return 1;
   }
+}
+
+int main(int argc, char** argv) {
+  return dld::guarded_main("dld-capsule-shear", run_main, argc, argv);
 }
