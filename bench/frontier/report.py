@@ -128,51 +128,62 @@ def envelope(problem, grid, results):
     return lines
 
 
-def _capsule_table(problem, grid, results):
+def _rows(problem, grid, results, columns, cost_key):
+    """The table rows (one per point: setting, knobs, status, then `columns`, each a (header,
+    align, value of (result, error)) triple) and the (name, cost, error) of each point."""
     ref = results[(problem.name, "reference")]
-    lines = [f"### {problem.name} (capsule in shear: Ca {problem.values['capillary_number']}"
-             + _case(problem), "",
-             "| setting | knobs | status | D | error | against the literature | largest dV [%] | "
-             "steps | steps/s | wall s |", "|---|---|---|---:|---:|---:|---:|---:|---:|---:|"]
+    lines = ["| setting | knobs | status | " + " | ".join(c[0] for c in columns) + " |",
+             "|---|---|---|" + "|".join(c[1] for c in columns) + "|"]
     rows = []
     for p in grid.points:
         r = results[(problem.name, p.name)]
         err = error(problem, r, ref)
         status = r.get("status", "?") + (f": {r['why']}" if "why" in r else "")
-        lit = r.get("literature_error")
-        lines.append(
-            f"| {p.name} | {_knobs(p)} | {status} | {_fmt(r.get('D'), '.4f')} | {_fmt(err, '.3g')} | "
-            f"{'-' if lit is None else format(lit, '+.1%')} | "
-            f"{_fmt(r.get('volume_change_pct'), '.3f')} | {_fmt(r.get('steps'), 'd')} | "
-            f"{_fmt(r.get('steps_per_s'), '.1f')} | {_fmt(r.get('wall_s'), '.1f')} |")
-        rows.append((p.name, r.get("wall_s", math.nan), err))
+        lines.append(f"| {p.name} | {_knobs(p)} | {status} | "
+                     + " | ".join(c[2](r, err) for c in columns) + " |")
+        rows.append((p.name, r.get(cost_key, math.nan), err))
     return lines, rows
+
+
+def _literature(r, _):
+    lit = r.get("literature_error")
+    return "-" if lit is None else format(lit, "+.1%")
+
+
+CAPSULE_COLUMNS = [
+    ("D", "---:", lambda r, e: _fmt(r.get("D"), ".4f")),
+    ("error", "---:", lambda r, e: _fmt(e, ".3g")),
+    ("against the literature", "---:", _literature),
+    ("largest dV [%]", "---:", lambda r, e: _fmt(r.get("volume_change_pct"), ".3f")),
+    ("steps", "---:", lambda r, e: _fmt(r.get("steps"), "d")),
+    ("steps/s", "---:", lambda r, e: _fmt(r.get("steps_per_s"), ".1f")),
+    ("wall s", "---:", lambda r, e: _fmt(r.get("wall_s"), ".1f"))]
+
+
+def _pillar_columns(kind):
+    key = "shift_per_column_um" if kind == "dilute" else "mobility"
+    return [
+        ("shift/col [um]" if kind == "dilute" else "mobility", "---:",
+         lambda r, e: _fmt(r.get(key), ".4f")),
+        ("error", "---:", lambda r, e: _fmt(e, ".3g")),
+        ("mode", "---", lambda r, e: str(r.get("mode", "-"))),
+        ("largest dV [%]", "---:", lambda r, e: _fmt(r.get("volume_change_pct"), ".3f")),
+        ("steps/pillar", "---:", lambda r, e: _fmt(r.get("steps_per_pillar"), ".0f")),
+        ("steps/s", "---:", lambda r, e: _fmt(r.get("steps_per_s"), ".1f")),
+        ("wall s/pillar", "---:", lambda r, e: _fmt(r.get("wall_s_per_pillar"), ".1f"))]
 
 
 def _problem_table(problem, grid, results):
+    v = problem.values
     if problem.kind == "capsule":
-        return _capsule_table(problem, grid, results)
-    ref = results[(problem.name, "reference")]
-    lines = [f"### {problem.name} ({problem.kind}: d {problem.values['row_shift_um']} um, "
-             f"Ca {problem.values['capillary_number']}"
-             + _case(problem), ""]
-    metric = "shift/col [um]" if problem.kind == "dilute" else "mobility"
-    lines.append(f"| setting | knobs | status | {metric} | error | mode | largest dV [%] | "
-                 "steps/pillar | steps/s | wall s/pillar |")
-    lines.append("|---|---|---|---:|---:|---|---:|---:|---:|---:|")
-    rows = []
-    for p in grid.points:
-        r = results[(problem.name, p.name)]
-        err = error(problem, r, ref)
-        value = r.get("shift_per_column_um" if problem.kind == "dilute" else "mobility")
-        status = r.get("status", "?") + (f": {r['why']}" if "why" in r else "")
-        lines.append(
-            f"| {p.name} | {_knobs(p)} | {status} | {_fmt(value, '.4f')} | {_fmt(err, '.3g')} | "
-            f"{r.get('mode', '-')} | {_fmt(r.get('volume_change_pct'), '.3f')} | "
-            f"{_fmt(r.get('steps_per_pillar'), '.0f')} | {_fmt(r.get('steps_per_s'), '.1f')} | "
-            f"{_fmt(r.get('wall_s_per_pillar'), '.1f')} |")
-        rows.append((p.name, r.get("wall_s_per_pillar", math.nan), err))
-    return lines, rows
+        head = f"### {problem.name} (capsule in shear: Ca {v['capillary_number']}" + _case(problem)
+        table, rows = _rows(problem, grid, results, CAPSULE_COLUMNS, "wall_s")
+    else:
+        head = (f"### {problem.name} ({problem.kind}: d {v['row_shift_um']} um, "
+                f"Ca {v['capillary_number']}" + _case(problem))
+        table, rows = _rows(problem, grid, results, _pillar_columns(problem.kind),
+                            "wall_s_per_pillar")
+    return [head, ""] + table, rows
 
 
 def mode_word(result):
