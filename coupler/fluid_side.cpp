@@ -93,6 +93,7 @@ void FluidSide::initialize() {
   guarded([&] {
     receive_hellos();
     check_hellos();
+    check_halo_widths();
     map_segments();
     for (std::size_t k = 0; k < peers_.size(); ++k) {
       Peer& peer = peers_[k];
@@ -102,11 +103,16 @@ void FluidSide::initialize() {
       welcome.shared_memory = peer.segment.mapped() ? peer.segment.name() : "";
       welcome.cell_faces.clear();  // the surfaces travel one way only
       welcome.faces.clear();
+      welcome.contact_halo = halo_;
       zmq::message_t frame = encode_handshake(FrameType::welcome, welcome);
       if (!peer.channel->send(frame)) {
         throw CouplerError(fmt::format("{}: {} did not take the welcome within {} s", kSelf,
                                        peer.label, seconds(config_.options.timeout)));
       }
+    }
+    if (halo_ > 0) {
+      receive_start_positions();
+      send_halos(positions_, step_);
     }
     state_ = State::running;
     spdlog::debug("coupler: fluid serves {} membrane peer(s), {} cells, {} nodes", peers_.size(),
@@ -262,6 +268,14 @@ void FluidSide::send_velocities(std::span<const double> velocities) {
         throw CouplerError(fmt::format("{}: {} did not take the velocities of step {} within {} s",
                                        kSelf, peer.label, step_, seconds(config_.options.timeout)));
       }
+    }
+    if (halo_ > 0) {
+      // Where the nodes are next step: the membranes move them by X += U dt with dt = 1, and
+      // x + u is that sum bit for bit.
+      const std::span<const double> x = positions_view_;
+      next_positions_.resize(x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) next_positions_[i] = x[i] + velocities[i];
+      send_halos(next_positions_, step_ + 1);
     }
     ++step_;
     state_ = State::running;

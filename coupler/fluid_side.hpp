@@ -23,6 +23,7 @@
 
 #include "coupler/channel.hpp"
 #include "coupler/frame_pool.hpp"
+#include "coupler/halo.hpp"
 #include "coupler/handshake.hpp"
 #include "coupler/options.hpp"
 #include "coupler/shared_segment.hpp"
@@ -57,6 +58,9 @@ class FluidSide {
     return zap_ ? zap_->refusals() : std::vector<std::string>{};
   }
 
+  /// The DLD cell's periodicity [lattice lengths], for the contact halo the peers may ask for
+  /// (coupler/halo.hpp); before initialize(). Without it a peer asking for a halo is refused.
+  void set_periodic_box(const PeriodicBox& box) { box_ = box; }
   void initialize();
   /// Waits for step step() from every peer. False when all peers sent shutdown instead.
   [[nodiscard]] bool receive();
@@ -93,6 +97,11 @@ class FluidSide {
   std::span<const std::uint32_t> cell_faces() const { return cell_faces_; }
   /// The triangles of all cells, 3 node indices local to their cell, in global cell order.
   std::span<const std::uint32_t> faces() const { return faces_; }
+  /// The contact halo width served [lattice lengths] (0: none); after initialize().
+  double contact_halo() const { return halo_; }
+  /// Halo cells and bytes sent over all peers and steps so far (for the cost per step).
+  std::uint64_t halo_cells_sent() const { return halo_cells_sent_; }
+  std::uint64_t halo_bytes_sent() const { return halo_bytes_sent_; }
   /// "membrane 'membrane-1'" once its hello arrived, else "membrane peer 1".
   const std::string& peer_label(std::size_t peer) const { return peers_[peer].label; }
 
@@ -112,6 +121,10 @@ class FluidSide {
   void receive_hellos();
   void check_hellos();
   void map_segments();
+  void check_halo_widths();
+  void receive_start_positions();
+  /// Sends each peer the halo for `step` from all nodes at `positions` (3 x node_count()).
+  void send_halos(std::span<const double> positions, std::uint64_t step);
   bool receive_steps();
   void accept_frame(std::size_t k, zmq::message_t frame);
   /// Indices of peers for which a frame is waiting, within the deadline; empty on timeout.
@@ -135,6 +148,12 @@ class FluidSide {
   std::span<const double> forces_view_;
   std::vector<double> velocities_;  // velocities_buffer() when it cannot be the segment
   FramePool pool_;                  // velocity frames
+  PeriodicBox box_;
+  double halo_ = 0;                           // contact halo width served, 0: none
+  std::vector<std::uint32_t> first_cell_;     // peer k owns cells [first_cell_[k], [k + 1])
+  std::vector<std::size_t> cell_first_node_;  // first node of every cell
+  std::vector<double> next_positions_;        // x + u: where the halo's nodes are next step
+  std::uint64_t halo_cells_sent_ = 0, halo_bytes_sent_ = 0;
 };
 
 }  // namespace dld::coupler

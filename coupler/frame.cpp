@@ -49,6 +49,10 @@ std::string_view to_string(FrameType type) {
       return "step_shared";
     case FrameType::velocities_shared:
       return "velocities_shared";
+    case FrameType::start_positions:
+      return "start_positions";
+    case FrameType::halo:
+      return "halo";
   }
   return "unknown";
 }
@@ -87,17 +91,27 @@ zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions
   return frame;
 }
 
-zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
-                                 FramePool* pool) {
-  assert(velocities.size() % 3 == 0);
-  const std::size_t nodes = velocities.size() / 3;
+namespace {
+zmq::message_t encode_array(FrameType type, std::uint64_t step, std::span<const double> values,
+                            FramePool* pool) {
+  assert(values.size() % 3 == 0);
+  const std::size_t nodes = values.size() / 3;
   const std::size_t bytes = velocities_payload_bytes(nodes);
-  zmq::message_t frame = pool ? pool->make(FrameType::velocities, step, bytes)
-                              : make_frame(FrameType::velocities, step, bytes);
+  zmq::message_t frame = pool ? pool->make(type, step, bytes) : make_frame(type, step, bytes);
   std::byte* at = payload(frame);
   put(at, static_cast<std::uint64_t>(nodes));
-  std::memcpy(at + 8, velocities.data(), velocities.size_bytes());
+  std::memcpy(at + 8, values.data(), values.size_bytes());
   return frame;
+}
+}  // namespace
+
+zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
+                                 FramePool* pool) {
+  return encode_array(FrameType::velocities, step, velocities, pool);
+}
+
+zmq::message_t encode_start_positions(std::uint64_t step, std::span<const double> positions) {
+  return encode_array(FrameType::start_positions, step, positions, nullptr);
 }
 
 zmq::message_t encode_count(FrameType type, std::uint64_t step, std::size_t nodes) {

@@ -18,8 +18,9 @@ static_assert(std::endian::native == std::endian::little,
               "the frame codec copies doubles and integers as they lie in memory");
 
 inline constexpr std::uint32_t kMagic = 0x43444C44;  ///< bytes 'D' 'L' 'D' 'C'
-/// 2: cell surfaces in the handshake; 3: named values to agree on instead of fixed fields
-inline constexpr std::uint16_t kProtocolVersion = 3;
+/// 2: cell surfaces in the handshake; 3: named values to agree on instead of fixed fields;
+/// 4: the contact halo (handshake field, start positions and halo frames)
+inline constexpr std::uint16_t kProtocolVersion = 4;
 inline constexpr std::size_t kHeaderBytes = 24;
 
 enum class FrameType : std::uint16_t {
@@ -31,8 +32,10 @@ enum class FrameType : std::uint16_t {
   error = 6,              ///< either way: the sender failed; payload = its one-line message (UTF-8)
   step_shared = 7,        ///< as step, the arrays in the shared segment; payload = node count
   velocities_shared = 8,  ///< as velocities, the array in the shared segment; payload = count
+  start_positions = 9,    ///< membrane -> fluid, once before step 1 (halo on): count, N x 3
+  halo = 10,              ///< fluid -> membrane (halo on): other peers' cells near its own
 };
-inline constexpr std::uint16_t kLastFrameType = 8;
+inline constexpr std::uint16_t kLastFrameType = 10;
 std::string_view to_string(FrameType type);
 
 struct FrameHeader {
@@ -69,6 +72,9 @@ zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions
                            std::span<const double> forces, FramePool* pool = nullptr);
 zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
                                  FramePool* pool = nullptr);
+/// The positions a membrane starts from (3 N doubles), sent once before its first step when the
+/// contact halo is on: count, positions, laid out as a velocities frame.
+zmq::message_t encode_start_positions(std::uint64_t step, std::span<const double> positions);
 /// Step and velocities frames of the shared-memory data path: the header and the node count only.
 zmq::message_t encode_count(FrameType type, std::uint64_t step, std::size_t nodes);
 zmq::message_t encode_shutdown(std::uint64_t step);

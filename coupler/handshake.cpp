@@ -99,6 +99,7 @@ zmq::message_t encode_handshake(FrameType type, const Handshake& r) {
         static_cast<std::uint32_t>(value_bytes)}) {
     put(at, v);
   }
+  put(at, r.contact_halo);
   auto put_bytes = [&](const void* data, std::size_t n) {
     if (n > 0) {
       std::memcpy(at, data, n);
@@ -146,6 +147,11 @@ Handshake decode_handshake(const zmq::message_t& frame, const FrameHeader& heade
   const auto face_count = get<std::uint32_t>(at);
   const auto value_count = get<std::uint32_t>(at);
   const auto value_bytes = get<std::uint32_t>(at);
+  r.contact_halo = get<double>(at);
+  if (!(r.contact_halo >= 0) || !std::isfinite(r.contact_halo)) {
+    throw_malformed(link, header.step, "contact_halo",
+                    fmt::format("{}: expected a finite width >= 0", r.contact_halo));
+  }
   if (value_count > kMaxAgreedValues || value_bytes > kMaxAgreedValues * (20 + kMaxValueName)) {
     throw_malformed(link, header.step, "agreed_values",
                     fmt::format("{} values in {} bytes: at most {} values of names up to {} bytes",

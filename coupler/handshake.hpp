@@ -55,9 +55,13 @@ struct Handshake {
   /// Shared-memory data path (ipc): in a hello, the segment the membrane offers; in a welcome,
   /// the same name if the fluid mapped it, empty if it declines. Empty: frames carry the data.
   std::string shared_memory;
+  /// Contact halo width [lattice lengths]: in a hello, how near other processes' cells must come
+  /// for this peer's contact to need their nodes (0: never, e.g. one process or no cell-cell
+  /// contact); in a welcome, the width the fluid serves (coupler/halo.hpp).
+  double contact_halo = 0;
 };
 
-inline constexpr std::size_t kHandshakeFixedBytes = 52;
+inline constexpr std::size_t kHandshakeFixedBytes = 60;
 inline constexpr std::size_t kMaxNameBytes = 256;
 /// Named values of one record at most, and bytes of one name at most.
 inline constexpr std::uint32_t kMaxAgreedValues = 64;

@@ -86,8 +86,13 @@ void MembraneSide::set_cell_surfaces(std::vector<std::uint32_t> cell_faces,
   faces_ = std::move(faces);
 }
 
-void MembraneSide::initialize() {
+void MembraneSide::initialize(std::span<const double> start_positions) {
   check_call(self_, "initialize()", state_, {State::created});
+  if (config_.contact_halo > 0 && start_positions.size() != 3 * nodes_) {
+    throw std::invalid_argument(fmt::format(
+        "{}: initialize() with a contact halo needs the {} start position values, given {}", self_,
+        3 * nodes_, start_positions.size()));
+  }
   guarded([&] {
     Handshake hello{config_.scene,
                     config_.name,
@@ -97,7 +102,8 @@ void MembraneSide::initialize() {
                     config_.cell_nodes,
                     cell_faces_,
                     faces_,
-                    ""};
+                    "",
+                    config_.contact_halo};
     if (config_.options.shared_memory && nodes_ > 0 &&
         parse_endpoint(config_.endpoint) == Transport::ipc) {
       try {
@@ -135,6 +141,14 @@ void MembraneSide::initialize() {
     if (!shared_) {
       segment_ = SharedSegment();
     }
+    if (config_.contact_halo > 0) {
+      zmq::message_t start = encode_start_positions(step_, start_positions);
+      if (!channel_->send(start)) {
+        throw CouplerError(fmt::format("{}: the fluid did not take the start positions within {} s",
+                                       self_, seconds(config_.options.timeout)));
+      }
+      receive_halo();
+    }
     state_ = State::running;
     spdlog::debug("coupler: {} joined the fluid with {} cells, {} nodes", self_,
                   config_.cell_nodes.size(), nodes_);
@@ -161,6 +175,9 @@ void MembraneSide::check_welcome(const Handshake& welcome) {
   if (welcome.cell_nodes != config_.cell_nodes) {
     fail(mismatch("cell_nodes", fmt::format("{} cells", welcome.cell_nodes.size()), self_,
                   fmt::format("{} cells", config_.cell_nodes.size())));
+  }
+  if (welcome.contact_halo != config_.contact_halo) {
+    fail(mismatch("contact_halo", welcome.contact_halo, self_, config_.contact_halo));
   }
   if (!welcome.shared_memory.empty() && welcome.shared_memory != segment_.name()) {
     fail(mismatch("shared_memory", fmt::format("'{}'", welcome.shared_memory), self_,
@@ -236,6 +253,7 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
     }
     require_finite(data, nodes_, "velocities", link, step_);
     ++step_;
+    if (config_.contact_halo > 0) receive_halo();
     if (reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
       return std::span<const double>(reinterpret_cast<const double*>(data), 3 * nodes_);
     }
@@ -243,6 +261,25 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
     std::memcpy(unaligned_.data(), data, unaligned_.size() * sizeof(double));
     return std::span<const double>(unaligned_);
   });
+}
+
+// The halo frame follows the velocities (or the welcome) and carries the cells at step_.
+void MembraneSide::receive_halo() {
+  auto frame = channel_->receive(config_.options.timeout);
+  if (!frame) {
+    throw CouplerError(fmt::format("{}: no contact halo from the fluid within {} s at step {}",
+                                   self_, seconds(config_.options.timeout), step_));
+  }
+  const Link link{self_, kFluid};
+  const FrameHeader header = read_header(*frame, link, step_);
+  if (header.type == FrameType::error) {
+    throw CouplerError(fmt::format("{}: fluid reported an error at step {}: {}", self_, header.step,
+                                   read_error_text(*frame, header)));
+  }
+  require_data_frame(header, FrameType::halo, step_, link);
+  const auto own = static_cast<std::uint32_t>(config_.cell_nodes.size());
+  halo_ = decode_halo(*frame, header, config_.first_cell, config_.first_cell + own,
+                      config_.scene.total_cells, link);
 }
 
 std::span<double> MembraneSide::positions_buffer() {

@@ -24,6 +24,7 @@
 
 #include "coupler/channel.hpp"
 #include "coupler/frame_pool.hpp"
+#include "coupler/halo.hpp"
 #include "coupler/handshake.hpp"
 #include "coupler/options.hpp"
 #include "coupler/shared_segment.hpp"
@@ -40,6 +41,9 @@ struct MembraneConfig {
   std::uint32_t first_cell = 0;           ///< global index of the first owned cell
   std::vector<std::uint32_t> cell_nodes;  ///< node count of every owned cell, in order
   Options options;
+  /// Contact halo width [lattice lengths] this side's contact needs from other processes' cells
+  /// (0: none); the fluid must serve the same (coupler/halo.hpp).
+  double contact_halo = 0;
 };
 
 class MembraneSide {
@@ -56,7 +60,12 @@ class MembraneSide {
   /// per triangle, cell after cell), sent once in the hello for the fluid's viscosity field.
   /// Before initialize(); without it the hello says the cells have no surface.
   void set_cell_surfaces(std::vector<std::uint32_t> cell_faces, std::vector<std::uint32_t> faces);
-  void initialize();
+  /// With a contact halo, `start_positions` (3 x node_count() doubles, the positions of the first
+  /// step) go to the fluid, and halo() holds the other processes' cells near them on return.
+  void initialize(std::span<const double> start_positions = {});
+  /// With a contact halo: other processes' cells near this side's, at the positions of step()
+  /// (after initialize() and after each exchange, which receives it with the velocities).
+  const Halo& halo() const { return halo_; }
   /// Exchanges step step(): sends positions and forces (3 x node_count() doubles each,
   /// node-major), waits for the velocities of the same nodes and writes them to `velocities`.
   /// Returns false, writing nothing, if the fluid ended the run instead.
@@ -90,6 +99,7 @@ class MembraneSide {
   template <class Body>
   auto guarded(Body&& body);
   void check_welcome(const Handshake& welcome);
+  void receive_halo();
 
   MembraneConfig config_;
   std::vector<std::uint32_t> cell_faces_, faces_;
@@ -105,6 +115,7 @@ class MembraneSide {
   std::vector<double> staging_;    // positions_buffer() | forces_buffer() without shared memory
   SharedSegment segment_;  // ipc data path: positions | forces | velocities, 24 N bytes each
   bool shared_ = false;    // the fluid accepted the segment
+  Halo halo_;
 };
 
 }  // namespace dld::coupler

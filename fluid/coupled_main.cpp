@@ -189,6 +189,8 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
   FluidSolver solver(fluid_config(scene));
   const ImmersedBoundary ib(solver.lattice(), ib_kernel_from_name(scene.coupling.ib_kernel));
   coupler::FluidSide side(fc);
+  const DldCell box = scene.cell_lu();
+  side.set_periodic_box({box.lambda, box.shift});  // for the contact halo of a split suspension
 
   // The run file's time series up to the checkpoint comes with it: a resumed run file is whole.
   std::vector<double> timeseries;

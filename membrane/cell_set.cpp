@@ -43,14 +43,14 @@ double CellSet::compute_forces(Points& f) const {
 #pragma omp parallel for reduction(+ : e) schedule(dynamic) if (cells_ > 1)
   for (int k = 0; k < cells_; ++k)
     e += mechanics_.add_forces(cell_positions(k), f.middleCols(Eigen::Index{k} * n, n));
-  if (contact_) e += contact_->add_forces(x_, n, f);
+  if (contact_) e += contact_->add_forces(x_, n, f, &ghosts_);
   return e;
 }
 
 double CellSet::energy() const {
   double e = 0.0;
   for (int k = 0; k < cells_; ++k) e += mechanics_.energy(cell_positions(k));
-  if (contact_) e += contact_->energy(x_, nodes_per_cell());
+  if (contact_) e += contact_->energy(x_, nodes_per_cell(), &ghosts_);
   return e;
 }
 

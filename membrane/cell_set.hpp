@@ -39,6 +39,11 @@ class CellSet {
     return x_.middleCols(Eigen::Index{k} * nodes_per_cell(), nodes_per_cell());
   }
 
+  /// Other processes' cells near these (their nodes at the positions of the next
+  /// compute_forces), for the contact; none when this process holds every cell.
+  void set_ghosts(ContactGhosts ghosts) { ghosts_ = std::move(ghosts); }
+  const ContactGhosts& ghosts() const { return ghosts_; }
+
   /// Membrane plus contact forces on every node [lattice force]; f is resized. Returns the total
   /// energy [lattice energy].
   double compute_forces(Points& f) const;
@@ -63,6 +68,7 @@ class CellSet {
   std::optional<Contact> contact_;
   Points x_;
   int cells_ = 0;
+  ContactGhosts ghosts_;
 };
 
 }  // namespace dld::membrane

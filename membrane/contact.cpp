@@ -122,27 +122,34 @@ void Contact::build_images(int nodes_per_cell, double cutoff) const {
     const Eigen::Vector3d& q = image_pos_[kk];
     const int node = image_node_[kk];
     sorted_[static_cast<std::size_t>(fill[static_cast<std::size_t>(bin_of[kk])]++)] = {
-        q.x(), q.y(), q.z(), node / nodes_per_cell, node};
+        q.x(), q.y(), q.z(), cell_of_[static_cast<std::size_t>(node / nodes_per_cell)], node};
   }
 }
 
 bool Contact::pairs_stale(const Points& x, int nodes_per_cell) const {
-  if (x.cols() != x_built_.cols() || nodes_per_cell != built_nodes_per_cell_) {
+  if (x.cols() != x_built_.cols() || nodes_per_cell != built_nodes_per_cell_ ||
+      cell_of_ != cells_built_) {
     return true;
   }
   const double limit = 0.25 * skin_ * skin_;  // (skin / 2)^2
   return ((x - x_built_).colwise().squaredNorm().array() > limit).any();
 }
 
-void Contact::build_pairs(const Points& x, int nodes_per_cell) const {
+void Contact::build_pairs(const Points& x, int nodes_per_cell, int own_nodes) const {
   const double cut = p_.range + skin_, cut2 = cut * cut;
   build_images(nodes_per_cell, cut);
-  const int n = static_cast<int>(x.cols());
+  const int n = own_nodes;  // ghost nodes get no list: their forces are their process's
+  // Pairs in global node order: the same order whatever the split over processes.
+  const auto global = [&](int node) {
+    return static_cast<long>(cell_of_[static_cast<std::size_t>(node / nodes_per_cell)]) *
+               nodes_per_cell +
+           node % nodes_per_cell;
+  };
   std::vector<std::vector<Neighbour>> lists(static_cast<std::size_t>(n));
 #pragma omp parallel for schedule(static) if (n > 1024)
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d& q = wrapped_[static_cast<std::size_t>(i)];
-    const int cell = i / nodes_per_cell;
+    const int cell = cell_of_[static_cast<std::size_t>(i / nodes_per_cell)];
     const int bx = std::clamp(static_cast<int>((q.x() + cut) / bin_), 0, nbx_ - 1);
     const int by = std::clamp(static_cast<int>((q.y() + cut) / bin_), 0, nby_ - 1);
     const int bz = std::clamp(static_cast<int>((q.z() - z0_) / bin_), 0, nbz_ - 1);
@@ -174,9 +181,9 @@ void Contact::build_pairs(const Points& x, int nodes_per_cell) const {
     }
     // A canonical order (by node, then translation): the sum over a node's pairs is then the same
     // whichever step built the list.
-    std::sort(list.begin(), list.end(), [](const Neighbour& a, const Neighbour& b) {
+    std::sort(list.begin(), list.end(), [&](const Neighbour& a, const Neighbour& b) {
       if (a.node != b.node) {
-        return a.node < b.node;
+        return global(a.node) < global(b.node);
       }
       return std::lexicographical_compare(a.shift.data(), a.shift.data() + 3, b.shift.data(),
                                           b.shift.data() + 3);
@@ -195,19 +202,41 @@ void Contact::build_pairs(const Points& x, int nodes_per_cell) const {
   }
   x_built_ = x;
   built_nodes_per_cell_ = nodes_per_cell;
+  cells_built_ = cell_of_;
 }
 
-double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
-  const int n = static_cast<int>(x.cols());
+const Points& Contact::gather(const Points& x, int nodes_per_cell,
+                              const ContactGhosts* ghosts) const {
+  const int own_cells = static_cast<int>(x.cols()) / nodes_per_cell;
+  const int first = ghosts ? ghosts->first_cell : 0;
+  cell_of_.resize(static_cast<std::size_t>(own_cells));
+  for (int k = 0; k < own_cells; ++k) cell_of_[static_cast<std::size_t>(k)] = first + k;
+  if (!ghosts || ghosts->cells.empty()) return x;
+  if (ghosts->x.cols() != Eigen::Index{nodes_per_cell} * std::ssize(ghosts->cells)) {
+    throw InputError(fmt::format("contact: {} ghost cells of {} nodes, {} ghost nodes given",
+                                 ghosts->cells.size(), nodes_per_cell, ghosts->x.cols()));
+  }
+  cell_of_.insert(cell_of_.end(), ghosts->cells.begin(), ghosts->cells.end());
+  with_ghosts_.resize(3, x.cols() + ghosts->x.cols());
+  with_ghosts_.leftCols(x.cols()) = x;
+  with_ghosts_.rightCols(ghosts->x.cols()) = ghosts->x;
+  return with_ghosts_;
+}
+
+double Contact::evaluate(const Points& own, int nodes_per_cell, Points* f,
+                         const ContactGhosts* ghosts) const {
+  const int n = static_cast<int>(own.cols());
+  const Points& x = gather(own, nodes_per_cell, ghosts);  // own nodes first, then the ghosts'
   const double rc = p_.range, rc2 = rc * rc;
-  const bool pairs = p_.cells && n > nodes_per_cell;
+  const bool pairs = p_.cells && x.cols() > nodes_per_cell;
   wrap_nodes(x);
   if (pairs && pairs_stale(x, nodes_per_cell)) {
-    build_pairs(x, nodes_per_cell);
+    build_pairs(x, nodes_per_cell, n);
   }
   double energy = 0.0;
-  long pair_count = 0;
-#pragma omp parallel for reduction(+ : energy, pair_count) schedule(static) if (n > 1024)
+  long pair_count = 0, ghost_count = 0;
+#pragma omp parallel for reduction(+ : energy, pair_count, ghost_count) schedule(static) \
+    if (n > 1024)
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d& q = wrapped_[i];
     Eigen::Vector3d fi = Eigen::Vector3d::Zero();
@@ -242,7 +271,11 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
         }
         const double r = std::sqrt(r2);
         energy += 0.5 * law_.energy(r);  // each pair is seen from both sides
-        ++pair_count;
+        if (nb.node < n) {
+          ++pair_count;
+        } else {
+          ++ghost_count;  // seen here from one side only
+        }
         fi += law_.force(r) * d / std::max(r, 1e-12 * rc);
       }
     }
@@ -250,16 +283,18 @@ double Contact::evaluate(const Points& x, int nodes_per_cell, Points* f) const {
       f->col(i) += fi;
     }
   }
-  pairs_ = pair_count / 2;
+  pairs_ = pair_count / 2 + ghost_count;
+  ghost_pairs_ = ghost_count;
   return energy;
 }
 
-double Contact::add_forces(const Points& x, int nodes_per_cell, Points& f) const {
-  return evaluate(x, nodes_per_cell, &f);
+double Contact::add_forces(const Points& x, int nodes_per_cell, Points& f,
+                           const ContactGhosts* ghosts) const {
+  return evaluate(x, nodes_per_cell, &f, ghosts);
 }
 
-double Contact::energy(const Points& x, int nodes_per_cell) const {
-  return evaluate(x, nodes_per_cell, nullptr);
+double Contact::energy(const Points& x, int nodes_per_cell, const ContactGhosts* ghosts) const {
+  return evaluate(x, nodes_per_cell, nullptr, ghosts);
 }
 
 }  // namespace dld::membrane

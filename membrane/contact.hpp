@@ -33,6 +33,16 @@ struct ContactLaw {
   double force(double s) const;
 };
 
+/// Other processes' cells the contact of this process must see (coupler/halo.hpp): their nodes
+/// push this process's nodes and get nothing back here (their own process computes that side).
+/// Pairs are ordered by global node index, so a node's force sums its pairs in the same order
+/// whatever the split of the cells over processes.
+struct ContactGhosts {
+  int first_cell = 0;      ///< global index of this process's first cell
+  std::vector<int> cells;  ///< global indices of the ghost cells, ascending
+  Points x;                ///< their nodes (nodes_per_cell each), cells in that order, unwrapped
+};
+
 class Contact {
  public:
   /// box in lattice units. Throws InputError for a non-positive range, negative strength, or a
@@ -40,16 +50,27 @@ class Contact {
   Contact(const DldCell& box_lu, const ContactParams& p);
 
   /// Adds contact forces for all nodes; x holds the cells one after another,
-  /// `nodes_per_cell` nodes each (positions may be unwrapped). Returns the contact energy.
-  double add_forces(const Points& x, int nodes_per_cell, Points& f) const;
-  double energy(const Points& x, int nodes_per_cell) const;
-  /// Number of cell-cell node pairs within range at the last add_forces (each pair once).
+  /// `nodes_per_cell` nodes each (positions may be unwrapped), and `ghosts` other processes'
+  /// cells near them (none: x is every cell). Returns the contact energy of x's nodes (a pair
+  /// with a ghost counts half: its other half belongs to the ghost's process).
+  double add_forces(const Points& x, int nodes_per_cell, Points& f,
+                    const ContactGhosts* ghosts = nullptr) const;
+  double energy(const Points& x, int nodes_per_cell, const ContactGhosts* ghosts = nullptr) const;
+  /// Number of cell-cell node pairs within range at the last add_forces (each pair once), and
+  /// how many of them had a ghost node.
   long last_pair_count() const { return pairs_; }
+  long last_ghost_pair_count() const { return ghost_pairs_; }
+  /// How near another process's cell must come for its nodes to be needed: the cut-off plus
+  /// the neighbour list's skin [lattice lengths].
+  double halo_width() const { return p_.range + skin_; }
 
   const ContactParams& params() const { return p_; }
 
  private:
-  double evaluate(const Points& x, int nodes_per_cell, Points* f) const;
+  double evaluate(const Points& x, int nodes_per_cell, Points* f,
+                  const ContactGhosts* ghosts) const;
+  /// The nodes the contact sees (x, then the ghosts' nodes) and each one's global cell index.
+  const Points& gather(const Points& x, int nodes_per_cell, const ContactGhosts* ghosts) const;
   /// Folds every node into the box (walls and pillar act on folded positions).
   void wrap_nodes(const Points& x) const;
   /// Images of the folded nodes within `cutoff` of a periodic face, binned by cells of side
@@ -57,7 +78,7 @@ class Contact {
   void build_images(int nodes_per_cell, double cutoff) const;
   /// The neighbour list: for each node, the nodes of other cells (with the periodic translation
   /// of their image) within r_c + skin.
-  void build_pairs(const Points& x, int nodes_per_cell) const;
+  void build_pairs(const Points& x, int nodes_per_cell, int own_nodes) const;
   bool pairs_stale(const Points& x, int nodes_per_cell) const;
 
   DldCell box_;
@@ -78,13 +99,15 @@ class Contact {
   double skin_ = 0.0;
   mutable std::vector<int> pair_start_;  // node i's neighbours: pairs_[pair_start_[i] .. [i + 1])
   mutable std::vector<Neighbour> pairs_list_;
-  mutable Points x_built_;  // node positions at the last build
+  mutable Points x_built_;                          // node positions at the last build
+  mutable std::vector<int> cell_of_, cells_built_;  // global cell of each local cell (now, build)
+  mutable Points with_ghosts_;                      // x and the ghosts' nodes
   mutable int built_nodes_per_cell_ = 0;
   mutable std::vector<Image> sorted_;  // images in bin order, so a row of bins is one range
   mutable std::vector<int> bin_start_;
   mutable int nbx_ = 0, nby_ = 0, nbz_ = 0;
   mutable double z0_ = 0.0, bin_ = 1.0;
-  mutable long pairs_ = 0;
+  mutable long pairs_ = 0, ghost_pairs_ = 0;
 };
 
 }  // namespace dld::membrane

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -29,6 +30,7 @@
 #include "membrane/run_checkpoint.hpp"
 #include "membrane/stability_guard.hpp"
 #include "shared/column_tracker.hpp"
+#include "shared/input_error.hpp"
 
 namespace dld::membrane {
 namespace {
@@ -48,7 +50,7 @@ std::optional<double> capillary_number(const Scene& scene) {
 using Clock = std::chrono::steady_clock;
 
 /// This process's share of the scene's cells: [first, last) of all of them. Contact with cells of
-/// other processes is not seen (one process sees all).
+/// other processes goes through the contact halo the fluid sends (coupler/halo.hpp).
 struct Share {
   CellSet cells;
   int total = 0, first = 0;
@@ -60,12 +62,17 @@ Share share_of(const Scene& scene, const MembraneScene& m, const CoupledArgs& a)
   const int first = total * a.peer / a.peers, last = total * (a.peer + 1) / a.peers;
   CellSet cells(all.reference(), all.mechanics(), all.contact());
   for (int k = first; k < last; ++k) cells.add_cell(Points(all.cell_positions(k)));
-  if (a.peers > 1 && total > 1 && a.peer == 0)
-    spdlog::warn(
-        "{} membrane processes: contact between cells of different processes is not "
-        "computed yet (they can pass through each other); use one for a suspension",
-        a.peers);
+  cells.set_ghosts({first, {}, {}});
   return {std::move(cells), total, first};
+}
+
+/// The contact halo this process needs: other processes' cells can touch its own only with cell
+/// contact on and the cells split over several processes.
+double halo_width(const Share& s, const CoupledArgs& a) {
+  const auto& contact = s.cells.contact();
+  if (a.peers == 1 || s.total == s.cells.cell_count() || !contact || !contact->params().cells)
+    return 0.0;
+  return contact->halo_width();
 }
 
 /// One coupled run of this process's cells, in named steps: set-up (connect, resume), the step
@@ -85,6 +92,7 @@ class CoupledRun {
     if (mesh_) mesh_->append(step, cells_.positions() * dx_um_);
   }
   void checkpoint(std::int64_t step) const;
+  void apply_halo();
   void progress(std::int64_t step) const;
   void summary() const;
   double slowest_columns() const;
@@ -97,6 +105,7 @@ class CoupledRun {
   CellSet& cells_ = share_.cells;
   const int first_ = share_.first;
   const double dx_um_;
+  const double halo_;  // contact halo width [lattice lengths], 0: none
   std::vector<double> v0_;
   coupler::MembraneSide side_;
   RunFacts facts_;
@@ -113,6 +122,8 @@ class CoupledRun {
   std::optional<MeshOutput> mesh_;
   Clock::time_point start_;
   double t_membrane_ = 0, t_exchange_ = 0;
+  std::int64_t halo_steps_ = 0, halo_cells_ = 0;
+  long halo_pairs_ = 0;  // most contact pairs with ghost nodes in one step
 };
 
 std::vector<double> volumes(const CellSet& cells) {
@@ -127,6 +138,7 @@ CoupledRun::CoupledRun(const Scene& scene, const MembraneScene& m, const Coupled
       a_(a),
       share_(share_of(scene, m, a)),
       dx_um_(scene.lattice.dx_um),
+      halo_(halo_width(share_, a)),
       v0_(volumes(cells_)),
       side_(config()),
       facts_{cells_.cell_count(), first_,     scene.units().dt_s(),    scene.cell_um.lambda,
@@ -150,6 +162,7 @@ coupler::MembraneConfig CoupledRun::config() const {
   mc.name = fmt::format("membrane-{}", a_.peer);
   mc.peer_index = static_cast<std::uint32_t>(a_.peer);
   mc.peer_count = static_cast<std::uint32_t>(a_.peers);
+  mc.contact_halo = halo_;
   mc.first_cell = static_cast<std::uint32_t>(first_);
   mc.cell_nodes.assign(static_cast<std::size_t>(cells_.cell_count()),
                        static_cast<std::uint32_t>(cells_.nodes_per_cell()));
@@ -207,6 +220,25 @@ void CoupledRun::checkpoint(std::int64_t step) const {
   c.positions = cells_.positions();
   c.rows = rows_;
   write_run_checkpoint(a_.checkpoint, c);
+}
+
+// The other processes' cells near this one's, at the positions of the next force computation.
+void CoupledRun::apply_halo() {
+  if (halo_ == 0) return;
+  const coupler::Halo& h = side_.halo();
+  ContactGhosts g{first_, std::vector<int>(h.cells.begin(), h.cells.end()), Points()};
+  for (std::size_t i = 0; i < h.cells.size(); ++i) {
+    if (h.nodes[i] != static_cast<std::uint32_t>(cells_.nodes_per_cell()))
+      throw InputError(fmt::format(
+          "contact halo: cell {} has {} nodes, this process's cells {} (every membrane process "
+          "must use the same mesh)",
+          h.cells[i], h.nodes[i], cells_.nodes_per_cell()));
+  }
+  g.x = Eigen::Map<const Points>(h.positions.data(), 3,
+                                 static_cast<Eigen::Index>(h.positions.size() / 3));
+  halo_cells_ += std::ssize(h.cells);
+  ++halo_steps_;
+  cells_.set_ghosts(std::move(g));
 }
 
 void CoupledRun::open_output() {
@@ -280,12 +312,17 @@ std::string CoupledRun::step_loop(std::int64_t& s) {
   for (; s < a_.steps && !g_stop; ++s) {
     const auto t0 = Clock::now();
     // Time-scale separation ([coupling] force_every): between updates the last forces are held.
-    if (s % force_every == 0 || s == s0) cells_.compute_forces(force);
+    if (s % force_every == 0 || s == s0) {
+      cells_.compute_forces(force);
+      if (cells_.contact())
+        halo_pairs_ = std::max(halo_pairs_, cells_.contact()->last_ghost_pair_count());
+    }
     const std::span<const double> f(force.data(), static_cast<std::size_t>(force.size()));
     const auto t1 = Clock::now();
     if (!side_.advance(cells_.flat_positions(), f, u)) return "the fluid ended the run";
     const auto t2 = Clock::now();
     cells_.move(std::span<const double>(u), 1.0);
+    apply_halo();
     t_membrane_ += std::chrono::duration<double>(t1 - t0 + (Clock::now() - t2)).count();
     t_exchange_ += std::chrono::duration<double>(t2 - t1).count();
     if (mesh_every > 0 && (s + 1) % mesh_every == 0) sample_mesh(s + 1);
@@ -313,7 +350,8 @@ int CoupledRun::run() {
   };
   start_ = Clock::now();
   try {
-    side_.initialize();
+    side_.initialize(cells_.flat_positions());
+    apply_halo();
     signal(SIGINT, on_sigint);
     spdlog::info("{} cells ({} nodes) of {}, connected", cells_.cell_count(), cells_.node_count(),
                  share_.total);
@@ -336,6 +374,13 @@ int CoupledRun::run() {
       spdlog::info("time per step [ms]: membrane {:.3f}, exchange and fluid {:.3f}",
                    1e3 * t_membrane_ / static_cast<double>(s - offset_),
                    1e3 * t_exchange_ / static_cast<double>(s - offset_));
+    if (halo_ > 0 && halo_steps_ > 0) {
+      const double cells = static_cast<double>(halo_cells_) / static_cast<double>(halo_steps_);
+      spdlog::info(
+          "contact halo (width {:.3g} dx): {:.2f} cells of other processes per step ({:.0f} kB), "
+          "at most {} contact pairs with their nodes in one step",
+          halo_, cells, cells * 24e-3 * cells_.nodes_per_cell(), halo_pairs_);
+    }
     summary();
     return 0;
   } catch (const coupler::CouplerError& e) {

@@ -151,13 +151,6 @@ int cell_count(const dld::Scene& scene, const Options& o) {
         fmt::format("{}: {} cells ([cells] count or [[cells.cell]]) for {} membrane processes",
                     o.scene_path, cells, peers));
   }
-  if (peers > 1 && cells > 1) {  // not silent: the split changes the physics of a suspension
-    fmt::print(stderr,
-               "dld-run: warning: {}: [coupling] membrane_processes = {}: contact between cells "
-               "of different membrane processes is not computed yet, so they can pass through "
-               "each other; use 1 for a suspension\n",
-               o.scene_path, peers);
-  }
   return cells;
 }
 

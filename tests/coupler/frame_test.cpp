@@ -32,7 +32,7 @@ TEST(Frame, HeaderLayoutIsLittleEndianAsDocumented) {
   ASSERT_EQ(frame.size(), kHeaderBytes);
   const auto* b = static_cast<const unsigned char*>(frame.data());
   EXPECT_EQ(std::string(reinterpret_cast<const char*>(b), 4), "DLDC");
-  EXPECT_EQ(b[4], 3);  // version, low byte first
+  EXPECT_EQ(b[4], 4);  // version, low byte first
   EXPECT_EQ(b[5], 0);
   EXPECT_EQ(b[6], 5);  // type shutdown
   EXPECT_EQ(b[8], 0x08);
@@ -70,7 +70,7 @@ TEST(Frame, WrongMagicVersionTypeAndLengthAreNamed) {
             std::string::npos);
   EXPECT_NE(error_of([&] {
               read_header(corrupt(4, 9), kLink, 1);
-            }).find("field 'version': expected 3, got 9"),
+            }).find("field 'version': expected 4, got 9"),
             std::string::npos);
   EXPECT_NE(error_of([&] {
               read_header(corrupt(6, 77), kLink, 1);

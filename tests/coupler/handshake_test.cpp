@@ -119,14 +119,14 @@ TEST(Handshake, ProtocolVersionMismatchIsNamed) {
                   context);
   RawPeer raw(context, fluid.endpoints()[0], false);
   zmq::message_t hello = encode_handshake(FrameType::hello, hello_for(test_scene(1), {10}));
-  static_cast<std::uint8_t*>(hello.data())[4] = 4;  // a membrane speaking protocol version 4
+  static_cast<std::uint8_t*>(hello.data())[4] = 5;  // a membrane speaking protocol version 5
   raw.send(std::move(hello));
   try {
     fluid.initialize();
     FAIL() << "no error";
   } catch (const CouplerError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "fluid: handshake: field 'protocol_version': fluid has 3, membrane peer 0 has 4");
+              "fluid: handshake: field 'protocol_version': fluid has 4, membrane peer 0 has 5");
   }
   auto reply = raw.receive();
   ASSERT_TRUE(reply);

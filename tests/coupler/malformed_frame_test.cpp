@@ -68,7 +68,7 @@ INSTANTIATE_TEST_SUITE_P(
                  kPrefix + "field 'magic': expected 0x43444c44 (\"DLDC\"), got 0x43444c58"},
         BadFrame{"WrongVersion",
                  [] { return with_byte(encode_step(0, kTwoNodes, kTwoNodes), 4, 2); },
-                 kPrefix + "field 'version': expected 3, got 2"},
+                 kPrefix + "field 'version': expected 4, got 2"},
         BadFrame{"UnknownType",
                  [] { return with_byte(encode_step(0, kTwoNodes, kTwoNodes), 6, 99); },
                  kPrefix + "field 'type': unknown frame type 99"},
@@ -121,7 +121,7 @@ TEST(MalformedHandshake, ShortHelloIsRefused) {
   } catch (const CouplerError& e) {
     EXPECT_EQ(std::string(e.what()),
               "fluid: malformed frame from membrane peer 0 at step 0: field 'payload_bytes': "
-              "hello record needs at least 52 bytes, got 10");
+              "hello record needs at least 60 bytes, got 10");
   }
 }
 

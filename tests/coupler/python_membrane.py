@@ -13,10 +13,10 @@ import sys
 
 import zmq
 
-MAGIC, VERSION = b"DLDC", 3
+MAGIC, VERSION = b"DLDC", 4
 HELLO, WELCOME, STEP, VELOCITIES, SHUTDOWN, ERROR = 1, 2, 3, 4, 5, 6
 HEADER = struct.Struct("<4sHHQQ")  # magic, version, type, step, payload bytes: 24 bytes
-FIXED = struct.Struct("<Q11I")  # handshake record, fixed part: 52 bytes
+FIXED = struct.Struct("<Q11Id")  # handshake record, fixed part: 60 bytes (the last: contact halo)
 # The values both sides agree on, by name (docs/protocol.md, "Handshake record").
 NAMES = ["dx_m", "dt_s", "density_kg_m3", "lambda_m", "radius_m", "depth_m", "shift_m"]
 
@@ -30,7 +30,7 @@ def handshake(scene_hash, doubles, start_step, total_cells, name, index, count, 
     values = b"".join(struct.pack("<I", len(k)) + k.encode() + struct.pack("<2d", v, 1e-12)
                       for k, v in zip(NAMES, doubles))
     fixed = FIXED.pack(start_step, total_cells, index, count, first, len(cells), len(h), len(n),
-                       0, 0, len(NAMES), len(values))  # no shared memory, no surfaces (faces)
+                       0, 0, len(NAMES), len(values), 0.0)  # no shared memory, surfaces, halo
     cell_faces = [0] * len(cells)
     return (fixed + values + h + n + struct.pack(f"<{len(cells)}I", *cells)
             + struct.pack(f"<{len(cells)}I", *cell_faces))

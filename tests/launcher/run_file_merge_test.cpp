@@ -217,11 +217,8 @@ TEST_F(DldRunMerge, WritesTheRunFileAndNamesItInTheLastLine) {
   ASSERT_EQ(code, 0) << out;
   EXPECT_NE(out.find("dld-run: done in"), std::string::npos) << out;
   EXPECT_NE(out.find("run file " + stem() + ".h5, parts"), std::string::npos) << out;
-  // Two cells over two membrane processes: said, since their contact is not computed (issue 14).
-  EXPECT_NE(out.find("membrane_processes = 2: contact between cells of different membrane "
-                     "processes is not computed yet"),
-            std::string::npos)
-      << out;
+  // Two cells over two membrane processes: their contact goes through the halo, no warning.
+  EXPECT_EQ(out.find("warning"), std::string::npos) << out;
   expect_parts_copied(run_parts(stem(), "cells", 2), stem() + ".h5");
   // The parts stay: --resume continues them.
   EXPECT_TRUE(fs::exists(stem() + "-cells-1.h5"));

@@ -134,6 +134,50 @@ TEST(Contact, NeighbourListGivesTheForcesOfAFreshSearchAsNodesMove) {
   EXPECT_GT(pairs_seen, 40 * 40) << "the test must exercise many pairs";
 }
 
+// Issue 14: the cells split over processes, each seeing the others' cells as ghosts, get the
+// forces of one process holding all cells, bit for bit, over drifting steps (lists reused and
+// rebuilt); without the ghosts the forces differ.
+TEST(Contact, GhostsOfOtherProcessesGiveTheOneProcessForcesBitForBit) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int cells = 60, per = 8, n = cells * per;
+  Points x(3, n);
+  for (int k = 0; k < cells; ++k) {
+    const Eigen::Vector3d c(80.0 * u(rng), 80.0 * u(rng), 2.0 + 8.0 * u(rng));
+    for (int i = 0; i < per; ++i)
+      x.col(k * per + i) = c + Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 3.0;
+  }
+  const Contact whole = make(true, true, true);
+  const std::vector<int> firsts{0, 7, 25, 26, 60};  // four processes, one with a single cell
+  std::vector<Contact> part(firsts.size() - 1, make(true, true, true));
+  long ghost_pairs = 0;
+  for (int step = 0; step < 20; ++step) {
+    for (int i = 0; i < n; ++i)
+      x.col(i) += Eigen::Vector3d(u(rng) - 0.3, u(rng) - 0.5, u(rng) - 0.5) * 0.08;
+    Points f = Points::Zero(3, n);
+    whole.add_forces(x, per, f);
+    for (std::size_t p = 0; p + 1 < firsts.size(); ++p) {
+      const int a = firsts[p], b = firsts[p + 1];
+      ContactGhosts g{a, {}, Points(3, 0)};
+      for (int k = 0; k < cells; ++k)
+        if (k < a || k >= b) g.cells.push_back(k);
+      g.x.resize(3, per * std::ssize(g.cells));
+      for (std::size_t j = 0; j < g.cells.size(); ++j)
+        g.x.middleCols(static_cast<Eigen::Index>(j) * per, per) =
+            x.middleCols(g.cells[j] * per, per);
+      Points own = x.middleCols(a * per, (b - a) * per), fp = Points::Zero(3, own.cols());
+      part[p].add_forces(own, per, fp, &g);
+      ASSERT_EQ((fp - f.middleCols(a * per, (b - a) * per)).cwiseAbs().maxCoeff(), 0.0)
+          << "process " << p << " step " << step;
+      ghost_pairs += part[p].last_ghost_pair_count();
+      Points alone = Points::Zero(3, own.cols());
+      make(true, true, true).add_forces(own, per, alone);
+      if (step == 0 && p == 0) EXPECT_GT((alone - fp).cwiseAbs().maxCoeff(), 0.0);
+    }
+  }
+  EXPECT_GT(ghost_pairs, 100) << "the test must exercise pairs across processes";
+}
+
 TEST(Contact, RefusesBadParameters) {
   EXPECT_THROW(Contact(kBox, ContactParams{0.0, 1.0}), InputError);
   EXPECT_THROW(Contact(kBox, ContactParams{1.0, -1.0}), InputError);

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Issue 14: any split of the cells over K membrane processes gives the one-process result. Four
+# cells placed within each other's contact range (configs/single-cell.toml's coarse setting, a
+# contact range of 1.6 um so that the cells touch from the start), run for STEPS steps with
+# K = 1, 2, 3 and 4 membrane processes over ipc: the final node positions must be bit for bit
+# those of K = 1, and with K > 1 contact pairs between cells of different processes must have
+# occurred (else the equality would prove nothing).
+# Usage: split_equality.sh DLD_RUN PROJECT_SOURCE_DIR [STEPS]
+set -euo pipefail
+run=$1 src=$2 steps=${3:-400}
+dir=$(mktemp -d /tmp/dld-split.XXXXXX)
+trap 'rm -rf "$dir"' EXIT
+for k in 1 2 3 4; do
+  mkdir -p "$dir/k$k"
+  { sed -e "s/^name = .*/name = \"split$k\"/" -e "s|^file = .*|file = \"$dir/k$k/run.h5\"|" \
+        -e "s/^range_um = .*/range_um = 1.6/" -e '/^\[\[cells.cell\]\]/,$d' \
+        -e "s/^timeout_s = .*/timeout_s = 60.0\nmembrane_processes = $k/" \
+        "$src/configs/single-cell.toml"
+    # A row of three cells 8.3 um apart along the gap (0.5 um between rims) and one above the
+    # first: every cell is within the range of another, whichever process owns it.
+    for c in "3.0, 0.0" "11.3, 0.0" "19.6, 0.0" "3.0, 8.4"; do
+      printf '[[cells.cell]]\ncentre_um = [%s, 2.4]\n' "$c"
+    done; } > "$dir/k$k/scene.toml"
+  (cd "$src" && "$run" "$dir/k$k/scene.toml" --membrane cells --steps "$steps" \
+      > "$dir/k$k/out.txt" 2>&1) || { echo "K = $k failed:"; cat "$dir/k$k/out.txt" \
+      "$dir/k$k"/run-cells-*.log; exit 1; }
+  if [ "$k" -gt 1 ]; then
+    pairs=$(sed -n 's/.*at most \([0-9]*\) contact pairs with their nodes.*/\1/p' \
+              "$dir/k$k"/run-cells-*.log | sort -n | tail -1)
+    echo "K = $k: at most ${pairs:-none} contact pairs with other processes' nodes in one step"
+    [ "${pairs:-0}" -gt 0 ] || { echo "K = $k: no contact across processes: the test proves nothing"; exit 1; }
+  fi
+done
+/usr/bin/python3 - "$dir" <<'PY'
+import glob, sys
+import h5py, numpy as np
+d = sys.argv[1]
+def positions(k):
+    files = sorted(glob.glob(f"{d}/k{k}/run-cells-*.ckpt.h5"))
+    return np.concatenate([np.asarray(h5py.File(f)["membrane/positions"]) for f in files])
+ref = positions(1)
+bad = 0
+for k in (2, 3, 4):
+    x = positions(k)
+    diff = float(np.max(np.abs(x - ref))) if x.shape == ref.shape else float("inf")
+    print(f"K = {k}: largest node position difference to K = 1: {diff:.3g} lattice lengths")
+    bad += diff != 0.0
+sys.exit(1 if bad else 0)
+PY
