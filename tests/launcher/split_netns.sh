@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# Issue 14: the split equality of split_equality.sh over tcp with CURVE between two hosts: the
+# fluid in one network namespace, two membrane processes in another, a veth pair between them
+# (loopback up inside each), made by this test. K = 2 over tcp must give the node positions of
+# K = 1 over ipc bit for bit. Skipped (exit 77) where namespaces cannot be made (not root, no
+# iproute2, a container without CAP_SYS_ADMIN).
+# Usage: split_netns.sh BUILD_DIR PROJECT_SOURCE_DIR [STEPS]
+set -euo pipefail
+build=$1 src=$2 steps=${3:-400}
+fluid=$build/fluid/dld-fluid membrane=$build/membrane/dld-membrane
+run=$build/coupler/launcher/dld-run keys=$build/coupler/dld-keys
+tag=dld$$ a=dld$$a b=dld$$b
+dir=$(mktemp -d /tmp/dld-netns.XXXXXX)
+cleanup() {
+  ip netns pids "$a" 2>/dev/null | xargs -r kill 2>/dev/null || true
+  ip netns pids "$b" 2>/dev/null | xargs -r kill 2>/dev/null || true
+  ip netns del "$a" 2>/dev/null || true
+  ip netns del "$b" 2>/dev/null || true
+  rm -rf "$dir"
+}
+trap cleanup EXIT
+if ! command -v ip > /dev/null || ! ip netns add "$a" 2> /dev/null; then
+  echo "skipped: cannot create network namespaces here (needs root and iproute2)"
+  exit 77
+fi
+ip netns add "$b"
+ip link add "${tag}x" type veth peer name "${tag}y"
+ip link set "${tag}x" netns "$a"
+ip link set "${tag}y" netns "$b"
+ip -n "$a" addr add 10.203.0.1/24 dev "${tag}x"
+ip -n "$b" addr add 10.203.0.2/24 dev "${tag}y"
+for ns in "$a" "$b"; do ip -n "$ns" link set lo up; done
+ip -n "$a" link set "${tag}x" up
+ip -n "$b" link set "${tag}y" up
+
+scene() {  # scene K: the four touching cells of split_equality.sh with K membrane processes
+  sed -e "s/^name = .*/name = \"netns$1\"/" -e "s|^file = .*|file = \"$dir/k$1/run.h5\"|" \
+      -e "s/^range_um = .*/range_um = 1.6/" -e '/^\[\[cells.cell\]\]/,$d' \
+      -e "s/^timeout_s = .*/timeout_s = 60.0\nmembrane_processes = $1/" \
+      "$src/configs/single-cell.toml"
+  for c in "3.0, 0.0" "11.3, 0.0" "19.6, 0.0" "3.0, 8.4"; do
+    printf '[[cells.cell]]\ncentre_um = [%s, 2.4]\n' "$c"
+  done
+}
+mkdir -p "$dir/k1" "$dir/k2"
+scene 1 > "$dir/k1/scene.toml"
+scene 2 > "$dir/k2/scene.toml"
+(cd "$src" && "$run" "$dir/k1/scene.toml" --membrane cells --steps "$steps" > "$dir/k1/out.txt" 2>&1) ||
+  { cat "$dir/k1/out.txt"; exit 1; }
+
+"$keys" "$dir/fluid" "$dir/m0" "$dir/m1" > /dev/null
+cd "$src"
+endpoint=tcp://10.203.0.1:5710
+ip netns exec "$a" "$fluid" "$dir/k2/scene.toml" --serve "$endpoint" --peers 2 --cells 4 \
+  --curve-key "$dir/fluid.key" --curve-clients "$dir/m0.pub" "$dir/m1.pub" \
+  --checkpoint "$dir/k2/fluid.ckpt.h5" > "$dir/k2/fluid.log" 2>&1 &
+fluid_pid=$!
+pids=()
+for k in 0 1; do
+  ip netns exec "$b" "$membrane" "$dir/k2/scene.toml" --connect "$endpoint" --peer "$k" --peers 2 \
+    --steps "$steps" --curve-key "$dir/m$k.key" --curve-server "$dir/fluid.pub" \
+    --checkpoint "$dir/k2/cells-$k.ckpt.h5" > "$dir/k2/cells-$k.log" 2>&1 &
+  pids+=($!)
+done
+status=0
+for p in "${pids[@]}" "$fluid_pid"; do wait "$p" || status=1; done
+if [ $status -ne 0 ]; then
+  tail -n 5 "$dir"/k2/*.log
+  exit 1
+fi
+grep -h "contact halo" "$dir"/k2/cells-*.log
+/usr/bin/python3 - "$dir" <<'PY'
+import glob, sys
+import h5py, numpy as np
+d = sys.argv[1]
+def positions(pattern):
+    files = sorted(glob.glob(f"{d}/{pattern}"))
+    return np.concatenate([np.asarray(h5py.File(f)["membrane/positions"]) for f in files])
+ref, x = positions("k1/run-cells-*.ckpt.h5"), positions("k2/cells-*.ckpt.h5")
+diff = float(np.max(np.abs(x - ref))) if x.shape == ref.shape else float("inf")
+print(f"K = 2 over tcp + CURVE between namespaces: largest difference to K = 1: {diff:.3g}")
+sys.exit(0 if diff == 0.0 else 1)
+PY
