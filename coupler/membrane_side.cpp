@@ -224,10 +224,14 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
                                      seconds(config_.options.timeout)));
     }
     auto reply = channel_->receive(config_.options.timeout);
+    // The fluid may itself be waiting, with the same timeout, for another membrane process that
+    // died or hung: half a timeout more lets its error frame, which names that process, arrive
+    // before this side blames the fluid.
+    if (!reply) reply = channel_->receive(config_.options.timeout / 2);
     if (!reply) {
       throw CouplerError(fmt::format(
           "{}: no velocities from the fluid within {} s at step {} (fluid dead or hung?)", self_,
-          seconds(config_.options.timeout), step_));
+          seconds(config_.options.timeout + config_.options.timeout / 2), step_));
     }
     // Keep the frame first: a small message's bytes live inside the message object.
     reply_ = std::move(*reply);

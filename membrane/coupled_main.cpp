@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -48,6 +49,17 @@ std::optional<double> capillary_number(const Scene& scene) {
 }
 
 using Clock = std::chrono::steady_clock;
+
+/// This machine's name, printable ASCII only (it goes into every coupler message about this
+/// process: with processes on several hosts, a fault names where it happened).
+std::string host_name() {
+  char buf[65] = {};
+  if (gethostname(buf, sizeof buf - 1) != 0 || buf[0] == 0) return "unknown-host";
+  std::string h(buf);
+  for (char& c : h)
+    if (c < 0x21 || c > 0x7e) c = '?';
+  return h;
+}
 
 /// This process's share of the scene's cells: [first, last) of all of them. Contact with cells of
 /// other processes goes through the contact halo the fluid sends (coupler/halo.hpp).
@@ -159,7 +171,7 @@ coupler::MembraneConfig CoupledRun::config() const {
   coupler::MembraneConfig mc;
   mc.scene = coupler::scene_identity(scene_, static_cast<std::uint32_t>(share_.total));
   mc.endpoint = coupler::peer_endpoints(a_.endpoint, static_cast<std::size_t>(a_.peers))[a_.peer];
-  mc.name = fmt::format("membrane-{}", a_.peer);
+  mc.name = fmt::format("membrane-{}@{}", a_.peer, host_name());  // messages name the host too
   mc.peer_index = static_cast<std::uint32_t>(a_.peer);
   mc.peer_count = static_cast<std::uint32_t>(a_.peers);
   mc.contact_halo = halo_;

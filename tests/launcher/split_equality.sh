@@ -10,17 +10,10 @@ set -euo pipefail
 run=$1 src=$2 steps=${3:-400}
 dir=$(mktemp -d /tmp/dld-split.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
+. "$(dirname "$0")/netns.sh"  # touching_cells_scene
 for k in 1 2 3 4; do
   mkdir -p "$dir/k$k"
-  { sed -e "s/^name = .*/name = \"split$k\"/" -e "s|^file = .*|file = \"$dir/k$k/run.h5\"|" \
-        -e "s/^range_um = .*/range_um = 1.6/" -e '/^\[\[cells.cell\]\]/,$d' \
-        -e "s/^timeout_s = .*/timeout_s = 60.0\nmembrane_processes = $k/" \
-        "$src/configs/single-cell.toml"
-    # A row of three cells 8.3 um apart along the gap (0.5 um between rims) and one above the
-    # first: every cell is within the range of another, whichever process owns it.
-    for c in "3.0, 0.0" "11.3, 0.0" "19.6, 0.0" "3.0, 8.4"; do
-      printf '[[cells.cell]]\ncentre_um = [%s, 2.4]\n' "$c"
-    done; } > "$dir/k$k/scene.toml"
+  touching_cells_scene "k$k" "$k" 60.0 > "$dir/k$k/scene.toml"
   (cd "$src" && "$run" "$dir/k$k/scene.toml" --membrane cells --steps "$steps" \
       > "$dir/k$k/out.txt" 2>&1) || { echo "K = $k failed:"; cat "$dir/k$k/out.txt" \
       "$dir/k$k"/run-cells-*.log; exit 1; }

@@ -9,39 +9,10 @@ set -euo pipefail
 build=$1 src=$2 steps=${3:-400}
 fluid=$build/fluid/dld-fluid membrane=$build/membrane/dld-membrane
 run=$build/coupler/launcher/dld-run keys=$build/coupler/dld-keys
-tag=dld$$ a=dld$$a b=dld$$b
 dir=$(mktemp -d /tmp/dld-netns.XXXXXX)
-cleanup() {
-  ip netns pids "$a" 2>/dev/null | xargs -r kill 2>/dev/null || true
-  ip netns pids "$b" 2>/dev/null | xargs -r kill 2>/dev/null || true
-  ip netns del "$a" 2>/dev/null || true
-  ip netns del "$b" 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-if ! command -v ip > /dev/null || ! ip netns add "$a" 2> /dev/null; then
-  echo "skipped: cannot create network namespaces here (needs root and iproute2)"
-  exit 77
-fi
-ip netns add "$b"
-ip link add "${tag}x" type veth peer name "${tag}y"
-ip link set "${tag}x" netns "$a"
-ip link set "${tag}y" netns "$b"
-ip -n "$a" addr add 10.203.0.1/24 dev "${tag}x"
-ip -n "$b" addr add 10.203.0.2/24 dev "${tag}y"
-for ns in "$a" "$b"; do ip -n "$ns" link set lo up; done
-ip -n "$a" link set "${tag}x" up
-ip -n "$b" link set "${tag}y" up
-
-scene() {  # scene K: the four touching cells of split_equality.sh with K membrane processes
-  sed -e "s/^name = .*/name = \"netns$1\"/" -e "s|^file = .*|file = \"$dir/k$1/run.h5\"|" \
-      -e "s/^range_um = .*/range_um = 1.6/" -e '/^\[\[cells.cell\]\]/,$d' \
-      -e "s/^timeout_s = .*/timeout_s = 60.0\nmembrane_processes = $1/" \
-      "$src/configs/single-cell.toml"
-  for c in "3.0, 0.0" "11.3, 0.0" "19.6, 0.0" "3.0, 8.4"; do
-    printf '[[cells.cell]]\ncentre_um = [%s, 2.4]\n' "$c"
-  done
-}
+. "$(dirname "$0")/netns.sh"
+make_namespaces
+scene() { touching_cells_scene "k$1" "$1" 60.0; }
 mkdir -p "$dir/k1" "$dir/k2"
 scene 1 > "$dir/k1/scene.toml"
 scene 2 > "$dir/k2/scene.toml"
