@@ -103,6 +103,18 @@ TEST(Contact, ForceIsMinusGradientOfEnergy) {
   EXPECT_LT(fc.rowwise().sum().norm(), 1e-12 * fc.colwise().norm().sum());
 }
 
+/// `cells` "cells" of `per` nodes each within 3 lattice lengths of a random centre in the box.
+Points random_cells(std::mt19937_64& rng, int cells, int per) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Points x(3, cells * per);
+  for (int k = 0; k < cells; ++k) {
+    const Eigen::Vector3d c(80.0 * u(rng), 80.0 * u(rng), 2.0 + 8.0 * u(rng));
+    for (int i = 0; i < per; ++i)
+      x.col(k * per + i) = c + Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 3.0;
+  }
+  return x;
+}
+
 TEST(Contact, NeighbourListGivesTheForcesOfAFreshSearchAsNodesMove) {
   // 150 "cells" of 8 nodes at random in a thin slab (many pairs, many across the periodic and
   // shifted faces). One Contact object is reused while the nodes drift (its neighbour list is
@@ -110,12 +122,7 @@ TEST(Contact, NeighbourListGivesTheForcesOfAFreshSearchAsNodesMove) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const int cells = 150, per = 8, n = cells * per;
-  Points x(3, n);
-  for (int k = 0; k < cells; ++k) {
-    const Eigen::Vector3d c(80.0 * u(rng), 80.0 * u(rng), 2.0 + 8.0 * u(rng));
-    for (int i = 0; i < per; ++i)
-      x.col(k * per + i) = c + Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 3.0;
-  }
+  Points x = random_cells(rng, cells, per);
   const Contact reused = make(true, true, true);
   long pairs_seen = 0;
   for (int step = 0; step < 40; ++step) {
@@ -141,12 +148,7 @@ TEST(Contact, GhostsOfOtherProcessesGiveTheOneProcessForcesBitForBit) {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const int cells = 60, per = 8, n = cells * per;
-  Points x(3, n);
-  for (int k = 0; k < cells; ++k) {
-    const Eigen::Vector3d c(80.0 * u(rng), 80.0 * u(rng), 2.0 + 8.0 * u(rng));
-    for (int i = 0; i < per; ++i)
-      x.col(k * per + i) = c + Eigen::Vector3d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5) * 3.0;
-  }
+  Points x = random_cells(rng, cells, per);
   const Contact whole = make(true, true, true);
   const std::vector<int> firsts{0, 7, 25, 26, 60};  // four processes, one with a single cell
   std::vector<Contact> part(firsts.size() - 1, make(true, true, true));
