@@ -38,7 +38,15 @@ std::string make_file(const std::string& path, const RunFacts& r, const std::vec
       // The meshes are not in the checkpoint (too large): they come from the previous part file.
       try {
         const H5File old(path, H5File::Mode::kRead);
-        if (old.exists("/cells/mesh")) {
+        // A run resumed with another split: the previous part held other cells.
+        const bool same_cells = old.read_attribute_number("/cells", "first_cell") == r.first_cell &&
+                                old.read_attribute_number("/cells", "count") == r.cells;
+        if (old.exists("/cells/mesh") && !same_cells) {
+          spdlog::warn(
+              "the meshes before step {} are not carried over: the previous part file {} holds "
+              "other cells (the run was split over another number of membrane processes)",
+              *resumed_at, path);
+        } else if (old.exists("/cells/mesh")) {
           f.copy_from(old, "/cells/mesh", "/cells/mesh");
           keep_mesh_samples_until(f, *resumed_at);
         }

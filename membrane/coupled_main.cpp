@@ -9,6 +9,7 @@
 #include "membrane/coupled_main.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -213,11 +214,11 @@ double CoupledRun::slowest_columns() const {  // columns of the slowest cell, fr
 // replays the samples from the cells' starts.
 void CoupledRun::resume() {
   if (!a_.resume.empty()) {
-    RunCheckpoint c = read_run_checkpoint(a_.resume, expected_);
+    RunCheckpoint c = read_run_checkpoints(a_.resume, expected_);
     cells_.positions() = c.positions;
     rows_ = std::move(c.rows);
     offset_ = c.step;
-    spdlog::info("resumed from {} at step {}", a_.resume, offset_);
+    spdlog::info("resumed from {} at step {}", fmt::join(a_.resume, " "), offset_);
   }
   tracker_.emplace(facts_.lambda_um, facts_.row_shift_um,
                    rows_.empty() ? centroids_um() : row_centroids(0));

@@ -2,6 +2,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "coupler/tcp_security.hpp"
 #include "membrane/membrane_scene.hpp"
@@ -18,8 +19,10 @@ struct CoupledArgs {
   bool stop_when_mode_certain = false;  ///< end the run once every cell's mode is certain
   std::string checkpoint;               ///< checkpoint file ("" = none), written when the run ends
   std::int64_t checkpoint_every = 0;    ///< and every this many steps (0: only at the end)
-  std::string resume;                   ///< start from this checkpoint; `steps` stays the last step
-  coupler::SecurityArgs security;       ///< tcp: CURVE key files or --plain-tcp
+  /// Start from these checkpoints of one step (this process's own, or those of every process of
+  /// any split: membrane/run_checkpoint.hpp); `steps` stays the last step.
+  std::vector<std::string> resume;
+  coupler::SecurityArgs security;  ///< tcp: CURVE key files or --plain-tcp
 };
 
 /// Runs this process's share of the scene's cells against dld-fluid; returns the exit code.

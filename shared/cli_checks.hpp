@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 
 namespace dld {
 
@@ -29,16 +30,22 @@ inline CLI::Validator step_count(bool allow_zero = false) {
 }
 
 /// The checkpoint options every coupled program takes (dld-fluid, dld-membrane; dld-run passes
-/// them on): --checkpoint FILE, --checkpoint-every STEPS, --resume FILE.
-inline void add_checkpoint_options(CLI::App& app, std::string& file, std::int64_t& every,
-                                   std::string& resume) {
+/// them on): --checkpoint FILE, --checkpoint-every STEPS, --resume FILE (dld-membrane: FILE...,
+/// the checkpoints of every process of any split, membrane/run_checkpoint.hpp).
+template <class ResumeFiles>
+void add_checkpoint_options(CLI::App& app, std::string& file, std::int64_t& every,
+                            ResumeFiles& resume) {
   app.add_option(
       "--checkpoint", file,
       "coupled mode: checkpoint file, written when the run ends (and see --checkpoint-every)");
   app.add_option("--checkpoint-every", every,
                  "coupled mode: steps between checkpoints (0: only at the end)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--resume", resume, "coupled mode: start from this checkpoint");
+  app.add_option("--resume", resume,
+                 std::is_same_v<ResumeFiles, std::string>
+                     ? "coupled mode: start from this checkpoint"
+                     : "coupled mode: start from these checkpoints of one step (this process's "
+                       "own, or every process's of a run split another way)");
 }
 
 }  // namespace dld

@@ -80,6 +80,7 @@ struct Options {
   std::int64_t steps = 1000;
   bool dry = false, until_certain = false, resume = false;
   int pillars = 0;
+  int membrane_processes = 0;  ///< 0: the scene's [coupling] membrane_processes
   std::int64_t checkpoint_every = 0;
   bool with_cells() const { return membrane == "cells"; }
 };
@@ -102,7 +103,12 @@ void add_options(CLI::App& app, Options& o) {
                  "cells: steps between checkpoints (one is always written when the run ends)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--resume", o.resume,
-               "cells: continue from the newest checkpoint step that every program has");
+               "cells: continue from the newest checkpoint step that holds the fluid and every "
+               "cell");
+  app.add_option("--membrane-processes", o.membrane_processes,
+                 "membrane processes to split the cells among (default: the scene's [coupling] "
+                 "membrane_processes); a run resumes with any number of them")
+      ->check(CLI::Range(1, 64));
   app.add_flag("--dry-run", o.dry, "validate the scene and print the commands, start nothing");
 }
 
@@ -147,15 +153,16 @@ int cell_count(const dld::Scene& scene, const Options& o) {
   const auto count = scene.document->root().at_path("cells.count").value<std::int64_t>();
   const int cells = count ? static_cast<int>(*count) : list ? static_cast<int>(list->size()) : 0;
   if (cells < peers) {
-    throw dld::InputError(
-        fmt::format("{}: {} cells ([cells] count or [[cells.cell]]) for {} membrane processes",
-                    o.scene_path, cells, peers));
+    throw dld::InputError(fmt::format(
+        "{}: {} cells ([cells] count or [[cells.cell]]) for {} membrane processes ({})",
+        o.scene_path, cells, peers,
+        o.membrane_processes ? "--membrane-processes" : "[coupling] membrane_processes"));
   }
   return cells;
 }
 
 // Checkpoints: <stem>-fluid.ckpt.h5 and <stem>-cells-k.ckpt.h5 (each keeps its previous one as
-// .prev); resuming takes the newest step every program has.
+// .prev); resuming takes the newest step the fluid and a set of them holding every cell have.
 std::string fluid_checkpoint(const std::string& stem) {
   return stem + "-fluid.ckpt.h5";
 }
@@ -163,23 +170,26 @@ std::string cell_checkpoint(const std::string& stem, int k) {
   return fmt::format("{}-cells-{}.ckpt.h5", stem, k);
 }
 
-/// With --resume, the checkpoint each program starts from (fluid first); else empty strings.
-std::vector<std::string> resume_points(const Options& o, const std::string& stem, int peers) {
-  std::vector<std::string> from(static_cast<std::size_t>(peers) + 1);
-  if (!o.resume) return from;
+/// With --resume, where the run continues: the fluid's checkpoint and the membrane checkpoints
+/// of one step holding every cell, from any earlier number of membrane processes (up to 64, the
+/// scene's limit); each new membrane process takes its cells from them.
+dld::coupler::ResumePoint resume_point(const Options& o, const std::string& stem, int cells,
+                                       int peers) {
+  if (!o.resume) return {};
   if (!o.with_cells())
     throw dld::InputError("--resume: only runs with --membrane cells checkpoint");
-  std::vector<std::pair<std::string, std::string>> sides{{fluid_checkpoint(stem), "/fluid"}};
-  for (int k = 0; k < peers; ++k) sides.emplace_back(cell_checkpoint(stem, k), "/membrane");
-  const auto chosen = dld::coupler::common_checkpoint(sides);
-  for (std::size_t i = 0; i < chosen.size(); ++i) from[i] = chosen[i];
-  return from;
+  constexpr int kMostProcesses = 64;  // the scene's limit: any earlier split is among these
+  std::vector<std::string> parts;
+  parts.reserve(kMostProcesses);
+  for (int k = 0; k < kMostProcesses; ++k) parts.push_back(cell_checkpoint(stem, k));
+  return dld::coupler::coupled_resume_point(fluid_checkpoint(stem), parts, cells,
+                                            static_cast<std::size_t>(peers));
 }
 
 /// The command lines: dld-fluid first, then one per membrane process.
 std::vector<std::vector<std::string>> program_commands(const Options& o, const dld::Scene& scene,
                                                        const RunPaths& p, int cells,
-                                                       const std::vector<std::string>& from) {
+                                                       const dld::coupler::ResumePoint& from) {
   const int peers = scene.coupling.membrane_processes;
   const bool with_cells = o.with_cells();
   const std::string every = std::to_string(o.checkpoint_every);
@@ -190,7 +200,7 @@ std::vector<std::vector<std::string>> program_commands(const Options& o, const d
   if (with_cells) {
     commands[0].insert(commands[0].end(),
                        {"--checkpoint", fluid_checkpoint(p.stem), "--checkpoint-every", every});
-    if (o.resume) commands[0].insert(commands[0].end(), {"--resume", from[0]});
+    if (o.resume) commands[0].insert(commands[0].end(), {"--resume", from.fluid});
   }
   const std::string program = with_cells
                                   ? dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE)
@@ -207,7 +217,10 @@ std::vector<std::vector<std::string>> program_commands(const Options& o, const d
     if (with_cells && o.until_certain) c.push_back("--until-mode-certain");
     if (with_cells) {
       c.insert(c.end(), {"--checkpoint", cell_checkpoint(p.stem, k), "--checkpoint-every", every});
-      if (o.resume) c.insert(c.end(), {"--resume", from[static_cast<std::size_t>(k) + 1]});
+      if (o.resume) {
+        c.push_back("--resume");
+        c.insert(c.end(), from.cells.begin(), from.cells.end());
+      }
     }
     commands.push_back(c);
   }
@@ -307,7 +320,10 @@ static int run_main(int argc, char** argv) {
   add_options(app, o);
   CLI11_PARSE(app, argc, argv);
   try {
-    const dld::Scene scene = dld::load_scene(o.scene_path);
+    dld::Scene scene = dld::load_scene(o.scene_path);
+    // Only dld-run reads the number (the programs get --peers): the scene file, and with it the
+    // hash every checkpoint is checked against, stays as it is.
+    if (o.membrane_processes) scene.coupling.membrane_processes = o.membrane_processes;
     fmt::print("{}\n", scene.describe());
     // The fluid and membrane programs take turns on the same cores: OpenMP threads that spin after
     // a parallel region (libgomp's default) steal the core the other program needs next. Sleeping
@@ -324,7 +340,8 @@ static int run_main(int argc, char** argv) {
       }
     } sock_dir_guard{paths.sock_dir};
     const int cells = cell_count(scene, o);
-    const auto from = resume_points(o, paths.stem, scene.coupling.membrane_processes);
+    const auto from = resume_point(o, paths.stem, cells, scene.coupling.membrane_processes);
+    if (o.resume) fmt::print("dld-run: resuming at step {}\n", from.step);
     auto commands = program_commands(o, scene, paths, cells, from);
     add_curve_keys(commands, paths);
     for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
