@@ -20,9 +20,11 @@
 #include <fstream>
 #include <optional>
 #include <thread>
+#include <utility>
 
 #include "coupler/curve_keys.hpp"
 #include "coupler/launcher/checkpoints.hpp"
+#include "coupler/launcher/placement.hpp"
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/run_file_merge.hpp"
 #include "shared/cli_checks.hpp"
@@ -39,6 +41,8 @@ void on_sigint(int) {
 }
 
 namespace fs = std::filesystem;
+
+constexpr double kHostCheckSeconds = 30.0;  // srun may wait a while for a job step to start
 
 /// The run file from the part files; false (and one line naming the part) if a part is missing or
 /// unreadable. Never throws: the run's own exit status must still reach the caller.
@@ -80,7 +84,10 @@ struct Options {
   std::int64_t steps = 1000;
   bool dry = false, until_certain = false, resume = false;
   int pillars = 0;
-  int membrane_processes = 0;  ///< 0: the scene's [coupling] membrane_processes
+  int membrane_processes = 0;      ///< 0: the scene's [coupling] membrane_processes
+  std::vector<std::string> hosts;  ///< membrane processes' hosts (placement.hpp)
+  std::string fluid_host, start_with;
+  int port = 0;  ///< the fluid's tcp port; 0: one from the launcher's process id
   std::int64_t checkpoint_every = 0;
   bool with_cells() const { return membrane == "cells"; }
 };
@@ -112,14 +119,45 @@ void add_options(CLI::App& app, Options& o) {
   app.add_flag("--dry-run", o.dry, "validate the scene and print the commands, start nothing");
 }
 
+/// Where the membrane processes run (coupler/launcher/placement.hpp).
+void add_placement_options(CLI::App& app, Options& o) {
+  app.add_option("--hosts", o.hosts,
+                 "hosts of the membrane processes, comma-separated (process k on host k mod n; "
+                 "over tcp with CURVE; the fluid runs here)")
+      ->delimiter(',');
+  app.add_option("--start-with", o.start_with,
+                 "with --hosts: command that starts a program on {host} (default: srun inside a "
+                 "SLURM allocation, else print: print each command to start by hand)");
+  app.add_option("--fluid-host", o.fluid_host,
+                 "with --hosts: the address the membrane hosts reach this one at (default: its "
+                 "host name)");
+  app.add_option("--port", o.port, "the fluid's tcp port (default: one from the process id)")
+      ->check(CLI::Range(1024, 65535));
+}
+
 /// Where a run's files go and how its programs meet.
 struct RunPaths {
   fs::path out;       ///< the run file
   fs::path sock_dir;  ///< private folder of the ipc sockets and checks
-  std::string endpoint, stem;
+  fs::path key_dir;   ///< private folder of the CURVE keys: beside the run file with --hosts
+  std::string serve, connect;  ///< the fluid's endpoint as it binds and as peers reach it
+  std::string stem, scene;     ///< the run's file stem and scene file, as the programs get them
 };
 
-RunPaths run_paths(const dld::Scene& scene) {
+/// With --hosts: tcp on every interface, reached at the fluid's host name; paths the other hosts
+/// see (a shared file system, as clusters have; the keys in a private folder beside the run).
+void place_on_hosts(RunPaths& p, const dld::coupler::Placement& place, int port) {
+  p.serve = fmt::format("tcp://*:{}", port);
+  p.connect = fmt::format("tcp://{}:{}", place.fluid_address, port);
+  p.stem = fs::absolute(p.stem).string();
+  p.scene = fs::absolute(p.scene).string();
+  p.key_dir = fmt::format("{}-keys-{}", p.stem, getpid());
+  fs::create_directories(p.key_dir);
+  fs::permissions(p.key_dir, fs::perms::owner_all, fs::perm_options::replace);
+}
+
+RunPaths run_paths(const dld::Scene& scene, const std::string& scene_path,
+                   const dld::coupler::Placement& place, int port) {
   RunPaths p;
   p.out = fs::path(scene.output.file);
   if (fs::is_directory(p.out)) {  // the run file replaces what is there: never a directory
@@ -137,10 +175,14 @@ RunPaths run_paths(const dld::Scene& scene) {
   // coupling.transport: ipc (default) or tcp over loopback, one port per membrane process from a
   // per-launcher base (tcp across machines: start dld-fluid --serve and dld-membrane --connect by
   // hand, docs/protocol.md).
-  p.endpoint = scene.coupling.transport == "tcp"
-                   ? fmt::format("tcp://127.0.0.1:{}", 20000 + (getpid() % 2000) * 16)
-                   : "ipc://" + (p.sock_dir / "fluid").string();
+  if (port == 0) port = 20000 + (getpid() % 2000) * 16;
+  p.serve = scene.coupling.transport == "tcp" ? fmt::format("tcp://127.0.0.1:{}", port)
+                                              : "ipc://" + (p.sock_dir / "fluid").string();
+  p.connect = p.serve;
+  p.key_dir = p.sock_dir;
   p.stem = (run_dir / p.out.stem()).string();
+  p.scene = scene_path;
+  if (place.remote()) place_on_hosts(p, place, port);
   return p;
 }
 
@@ -186,56 +228,62 @@ dld::coupler::ResumePoint resume_point(const Options& o, const std::string& stem
                                             static_cast<std::size_t>(peers));
 }
 
+/// Membrane process k's command line (behind what starts it on its host).
+std::vector<std::string> membrane_command(const Options& o, const RunPaths& p,
+                                          const dld::coupler::Placement& place, int k, int peers,
+                                          const dld::coupler::ResumePoint& from) {
+  const bool with_cells = o.with_cells();
+  std::vector<std::string> c = dld::coupler::start_prefix(place, k);
+  c.insert(c.end(), {with_cells ? dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE)
+                                : dld::coupler::find_program("dld-tracers", DLD_TRACERS_EXE),
+                     p.scene, "--connect", p.connect, "--peer", std::to_string(k), "--peers",
+                     std::to_string(peers), "--steps", std::to_string(o.steps), "-o",
+                     fmt::format("{}-{}-{}.h5", p.stem, o.membrane, k)});
+  if (!with_cells) {
+    c.insert(c.end(), {"--count", std::to_string(o.tracers)});
+    return c;
+  }
+  if (o.pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(o.pillars)});
+  if (o.until_certain) c.push_back("--until-mode-certain");
+  c.insert(c.end(), {"--checkpoint", cell_checkpoint(p.stem, k), "--checkpoint-every",
+                     std::to_string(o.checkpoint_every)});
+  if (o.resume) {
+    c.push_back("--resume");
+    c.insert(c.end(), from.cells.begin(), from.cells.end());
+  }
+  return c;
+}
+
 /// The command lines: dld-fluid first, then one per membrane process.
 std::vector<std::vector<std::string>> program_commands(const Options& o, const dld::Scene& scene,
-                                                       const RunPaths& p, int cells,
+                                                       const RunPaths& p,
+                                                       const dld::coupler::Placement& place,
+                                                       int cells,
                                                        const dld::coupler::ResumePoint& from) {
   const int peers = scene.coupling.membrane_processes;
-  const bool with_cells = o.with_cells();
-  const std::string every = std::to_string(o.checkpoint_every);
   std::vector<std::vector<std::string>> commands;
-  commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), o.scene_path,
-                      "--serve", p.endpoint, "--peers", std::to_string(peers), "--cells",
-                      std::to_string(cells), "-o", p.stem + "-fluid.h5"});
-  if (with_cells) {
+  commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), p.scene, "--serve",
+                      p.serve, "--peers", std::to_string(peers), "--cells", std::to_string(cells),
+                      "-o", p.stem + "-fluid.h5"});
+  if (o.with_cells()) {
     commands[0].insert(commands[0].end(),
-                       {"--checkpoint", fluid_checkpoint(p.stem), "--checkpoint-every", every});
+                       {"--checkpoint", fluid_checkpoint(p.stem), "--checkpoint-every",
+                        std::to_string(o.checkpoint_every)});
     if (o.resume) commands[0].insert(commands[0].end(), {"--resume", from.fluid});
   }
-  const std::string program = with_cells
-                                  ? dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE)
-                                  : dld::coupler::find_program("dld-tracers", DLD_TRACERS_EXE);
-  for (int k = 0; k < peers; ++k) {
-    std::vector<std::string> c{program,     o.scene_path,
-                               "--connect", p.endpoint,
-                               "--peer",    std::to_string(k),
-                               "--peers",   std::to_string(peers),
-                               "--steps",   std::to_string(o.steps),
-                               "-o",        fmt::format("{}-{}-{}.h5", p.stem, o.membrane, k)};
-    if (!with_cells) c.insert(c.end(), {"--count", std::to_string(o.tracers)});
-    if (with_cells && o.pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(o.pillars)});
-    if (with_cells && o.until_certain) c.push_back("--until-mode-certain");
-    if (with_cells) {
-      c.insert(c.end(), {"--checkpoint", cell_checkpoint(p.stem, k), "--checkpoint-every", every});
-      if (o.resume) {
-        c.push_back("--resume");
-        c.insert(c.end(), from.cells.begin(), from.cells.end());
-      }
-    }
-    commands.push_back(c);
-  }
+  for (int k = 0; k < peers; ++k) commands.push_back(membrane_command(o, p, place, k, peers, from));
   return commands;
 }
 
 /// Over tcp the run gets its own CURVE keys (docs/protocol.md, "Security"): a pair for the fluid
 /// and one per membrane process, in the run's private folder; the fluid admits those clients only.
 void add_curve_keys(std::vector<std::vector<std::string>>& commands, const RunPaths& p) {
-  if (p.endpoint.rfind("tcp://", 0) != 0) return;
-  const std::string fluid = (p.sock_dir / "fluid").string();
+  if (p.serve.rfind("tcp://", 0) != 0) return;
+  const std::string fluid = (p.key_dir / "fluid").string();
   dld::coupler::write_key_files(fluid, dld::coupler::new_key_pair());
   commands[0].insert(commands[0].end(), {"--curve-key", fluid + ".key", "--curve-clients"});
   for (std::size_t k = 1; k < commands.size(); ++k) {
-    const std::string client = (p.sock_dir / fmt::format("membrane-{}", k - 1)).string();
+    const std::string client = (p.key_dir / fmt::format("membrane-{}", k - 1)).string();
     dld::coupler::write_key_files(client, dld::coupler::new_key_pair());
     commands[0].push_back(client + ".pub");
     commands[k].insert(commands[k].end(),
@@ -298,13 +346,24 @@ int supervise(std::vector<dld::coupler::Child>& children, const dld::Scene& scen
   }
 }
 
-/// Starts dld-fluid and the membrane programs, each logging to <stem>-<name>.log.
+/// Starts dld-fluid and the membrane programs, each logging to <stem>-<name>.log; with
+/// --start-with print, the membrane programs' commands are printed for the user to start.
 std::vector<dld::coupler::Child> start_programs(const std::vector<std::vector<std::string>>& cmds,
-                                                const Options& o, const std::string& stem) {
+                                                const Options& o, const std::string& stem,
+                                                const dld::coupler::Placement& place) {
   std::vector<dld::coupler::Child> children;
   // Should dld-run die without stopping them (SIGKILL), the fluid gets what Ctrl-C sends it
   // and ends the run for every program at one step, with checkpoints.
   children.push_back(dld::coupler::start_child("dld-fluid", cmds[0], stem + "-fluid.log", SIGINT));
+  if (place.printed()) {
+    fmt::print(
+        "dld-run: start each membrane process on its host within 60 s (the fluid's "
+        "handshake timeout), from a folder that sees these paths:\n");
+    for (std::size_t k = 1; k < cmds.size(); ++k)
+      fmt::print("  on {}:  {}\n", place.hosts[k - 1], fmt::join(cmds[k], " "));
+    std::fflush(stdout);
+    return children;
+  }
   for (std::size_t k = 1; k < cmds.size(); ++k)
     children.push_back(
         dld::coupler::start_child(fmt::format("{}-{}", o.membrane, k - 1), cmds[k],
@@ -312,12 +371,25 @@ std::vector<dld::coupler::Child> start_programs(const std::vector<std::vector<st
   return children;
 }
 
+/// Removes a folder however run_main is left (--dry-run, an error, the end of the run).
+struct RemoveOnExit {
+  explicit RemoveOnExit(fs::path p) : path(std::move(p)) {}
+  fs::path path;
+  RemoveOnExit(const RemoveOnExit&) = delete;
+  RemoveOnExit& operator=(const RemoveOnExit&) = delete;
+  ~RemoveOnExit() {
+    std::error_code ignored;
+    fs::remove_all(path, ignored);
+  }
+};
+
 }  // namespace
 
 static int run_main(int argc, char** argv) {
   CLI::App app{"dld-run: one coupled run of a scene (fluid + membrane programs over ipc or tcp)"};
   Options o;
   add_options(app, o);
+  add_placement_options(app, o);
   CLI11_PARSE(app, argc, argv);
   try {
     dld::Scene scene = dld::load_scene(o.scene_path);
@@ -330,24 +402,23 @@ static int run_main(int argc, char** argv) {
     // instead made 17 cells 1.2-1.5x and 3 cells 1.8x faster per coupled step (one cell 10-20 %
     // slower; docs/performance.md, "Coupled step"). A policy the user set is kept.
     setenv("OMP_WAIT_POLICY", "PASSIVE", /*overwrite=*/0);
-    const RunPaths paths = run_paths(scene);
-    // Gone however this function is left (--dry-run, an error, the end of the run).
-    const struct RemoveOnExit {
-      fs::path path;
-      ~RemoveOnExit() {
-        std::error_code ignored;
-        fs::remove_all(path, ignored);
-      }
-    } sock_dir_guard{paths.sock_dir};
+    const auto place = dld::coupler::make_placement(o.hosts, scene.coupling.membrane_processes,
+                                                    o.fluid_host, o.start_with);
+    if (place.remote()) scene.coupling.transport = "tcp";  // with CURVE (add_curve_keys)
+    const RunPaths paths = run_paths(scene, o.scene_path, place, o.port);
+    const RemoveOnExit sockets{paths.sock_dir}, keys{paths.key_dir};
     const int cells = cell_count(scene, o);
     const auto from = resume_point(o, paths.stem, cells, scene.coupling.membrane_processes);
     if (o.resume) fmt::print("dld-run: resuming at step {}\n", from.step);
-    auto commands = program_commands(o, scene, paths, cells, from);
+    auto commands = program_commands(o, scene, paths, place, cells, from);
     add_curve_keys(commands, paths);
     for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
     if (o.dry) {  // the membrane part too: dld-run itself reads only the fluid's tables
-      return o.with_cells() ? check_membrane_part(commands[1][0], o.scene_path, paths.sock_dir) : 0;
+      if (!o.with_cells()) return 0;
+      return check_membrane_part(dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE),
+                                 o.scene_path, paths.sock_dir);
     }
+    dld::coupler::check_hosts(place, paths.sock_dir.string(), kHostCheckSeconds);
     // The run file describes this run or does not exist: one left by an earlier run of the scene
     // would otherwise stand for this one if this one's parts cannot be merged.
     const std::string merged = paths.out.string();
@@ -356,7 +427,7 @@ static int run_main(int argc, char** argv) {
     signal(SIGINT, on_sigint);
     signal(SIGTERM, on_sigint);  // SLURM's way to end a job: the same clean stop as Ctrl-C
     const auto start = std::chrono::steady_clock::now();
-    std::vector<dld::coupler::Child> children = start_programs(commands, o, paths.stem);
+    std::vector<dld::coupler::Child> children = start_programs(commands, o, paths.stem, place);
     const int failed = supervise(children, scene);
     // After a failure too: what the programs wrote up to it is what there is to look at.
     const bool have_run_file = write_run_file(

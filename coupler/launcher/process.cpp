@@ -43,7 +43,7 @@ Child start_child(const std::string& name, const std::vector<std::string>& argv,
       args.push_back(const_cast<char*>(a.c_str()));
     }
     args.push_back(nullptr);
-    execv(args[0], args.data());
+    execvp(args[0], args.data());  // a bare name (srun, ssh) is looked up in PATH
     fmt::print(stderr, "cannot start {}\n", argv[0]);
     _exit(127);
   }

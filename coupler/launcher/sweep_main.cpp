@@ -103,7 +103,9 @@ int default_jobs(const std::deque<const StudyRun*>& queue) {
 
 struct Options {
   std::string study_path, resolution, slurm;
-  int jobs = 0, index = -1;  // jobs 0: one run per core, see default_jobs
+  int jobs = 0, index = -1;          // jobs 0: one run per core, see default_jobs
+  dld::coupler::SlurmLayout layout;  ///< --membrane-nodes, --membrane-processes
+  std::vector<std::string> hosts;
   std::vector<std::string> only;
   bool list = false, summary_only = false, dry = false;
 };
@@ -123,6 +125,23 @@ void add_options(CLI::App& app, Options& o) {
   app.add_flag("--summary", o.summary_only, "only collect the summary table and plots");
   app.add_option("--slurm", o.slurm, "write a SLURM job-array script to this file, run nothing");
   app.add_flag("--dry-run", o.dry, "write the run scenes and print the commands, start nothing");
+  app.add_option("--membrane-processes", o.layout.membrane_processes,
+                 "each run's membrane processes (dld-run --membrane-processes)")
+      ->check(CLI::Range(1, 64));
+  app.add_option("--hosts", o.hosts, "each run's membrane hosts, comma-separated (dld-run --hosts)")
+      ->delimiter(',');
+  app.add_option("--membrane-nodes", o.layout.membrane_nodes,
+                 "with --slurm: 1 + M nodes per run, the fluid on one, membrane processes on M")
+      ->check(CLI::Range(1, 64));
+}
+
+/// What every run's dld-run gets beside the sweep's own options.
+std::vector<std::string> placement_args(const Options& o) {
+  std::vector<std::string> a;
+  if (o.layout.membrane_processes > 0)
+    a.insert(a.end(), {"--membrane-processes", std::to_string(o.layout.membrane_processes)});
+  if (!o.hosts.empty()) a.insert(a.end(), {"--hosts", fmt::format("{}", fmt::join(o.hosts, ","))});
+  return a;
 }
 
 /// The runs --index and --only choose (all by default); unknown ones are errors.
@@ -168,8 +187,13 @@ void write_study_summary(const dld::coupler::Study& study, const std::vector<Stu
 class Sweep {
  public:
   Sweep(const dld::coupler::Study& study, std::deque<const StudyRun*> queue, int jobs, bool dry,
-        int done_before)
-      : study_(study), queue_(std::move(queue)), jobs_(jobs), dry_(dry), done_before_(done_before) {
+        int done_before, std::vector<std::string> run_args)
+      : study_(study),
+        queue_(std::move(queue)),
+        jobs_(jobs),
+        dry_(dry),
+        done_before_(done_before),
+        run_args_(std::move(run_args)) {
     run_exe_ = dld::coupler::find_program("dld-run", DLD_RUN_EXE);
     try {
       analyze_exe_ = dld::coupler::find_program("dld-analyze", DLD_ANALYZE_EXE);
@@ -212,6 +236,7 @@ class Sweep {
                                    "--checkpoint-every",
                                    std::to_string(study_.checkpoint_every)};
       if (resume) cmd.push_back("--resume");
+      cmd.insert(cmd.end(), run_args_.begin(), run_args_.end());
       fmt::print("  start {} ({}): {}\n", r->name, resume ? "resuming" : "new",
                  fmt::join(cmd, " "));
       if (dry_) continue;
@@ -267,6 +292,7 @@ class Sweep {
   const int jobs_;
   const bool dry_;
   const int done_before_;
+  const std::vector<std::string> run_args_;  ///< placement: --membrane-processes, --hosts
   std::string run_exe_, analyze_exe_;
   std::vector<Running> running_;
   std::vector<std::string> failed_;
@@ -286,12 +312,16 @@ static int run_main(int argc, char** argv) {
     const std::string resolution = o.resolution.empty() ? study.default_resolution : o.resolution;
     const auto runs = study.runs(resolution);
     const std::vector<const StudyRun*> chosen = select_runs(runs, o);
+    if (o.layout.membrane_nodes > 0 && o.slurm.empty())
+      throw dld::InputError("--membrane-nodes: expected --slurm too (it sizes the job's tasks)");
+    if (!o.hosts.empty() && !o.slurm.empty())
+      throw dld::InputError("--hosts: a SLURM task finds its hosts itself (--membrane-nodes)");
     if (!o.slurm.empty()) {
       const std::string self = fs::read_symlink("/proc/self/exe").string();
       fs::create_directories(fs::absolute(study.output) / "slurm");
       std::ofstream(o.slurm) << dld::coupler::slurm_script(
-          study, resolution, runs.size(), o.jobs > 0 ? o.jobs : static_cast<int>(runs.size()),
-          self);
+          study, resolution, runs.size(), o.jobs > 0 ? o.jobs : static_cast<int>(runs.size()), self,
+          o.layout);
       fs::permissions(o.slurm, fs::perms::owner_exec, fs::perm_options::add);
       fmt::print("wrote {} ({} runs): submit with  sbatch {}\n", o.slurm, runs.size(), o.slurm);
       return 0;
@@ -321,7 +351,7 @@ static int run_main(int argc, char** argv) {
     signal(SIGINT, on_sigint);
     signal(SIGTERM, on_sigint);  // SLURM's time limit: checkpoint like Ctrl-C
     const std::vector<std::string> failed =
-        Sweep(study, std::move(queue), jobs, o.dry, done_before).run();
+        Sweep(study, std::move(queue), jobs, o.dry, done_before, placement_args(o)).run();
     if (o.dry) return 0;
     if (g_interrupted) {
       fmt::print(stderr,

@@ -162,10 +162,36 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
   return csv.string();
 }
 
+namespace {
+
+/// What the layout adds to the script: #SBATCH lines of a task's size, lines before the run
+/// (finding its hosts) and options of the run.
+struct SlurmLines {
+  std::string sbatch, setup, options;
+};
+
+SlurmLines slurm_lines(const SlurmLayout& l) {
+  if (l.membrane_nodes <= 0) return {"#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=2\n", "", ""};
+  const int k = l.membrane_processes > 0 ? l.membrane_processes : l.membrane_nodes;
+  const int per_node = (k + l.membrane_nodes - 1) / l.membrane_nodes;
+  return {fmt::format("#SBATCH --nodes={}\n#SBATCH --ntasks-per-node={}\n"
+                      "#SBATCH --cpus-per-task=2\n",
+                      1 + l.membrane_nodes, per_node),
+          fmt::format("# The fluid on this (the first) node, {} membrane processes on the {} "
+                      "others, started by dld-run through srun.\n"
+                      "hosts=$(scontrol show hostnames \"$SLURM_JOB_NODELIST\" | tail -n +2 | "
+                      "paste -sd, -)\n",
+                      k, l.membrane_nodes),
+          fmt::format(" --membrane-processes {} --hosts \"$hosts\"", k)};
+}
+
+}  // namespace
+
 std::string slurm_script(const Study& study, const std::string& resolution, std::size_t runs,
-                         int jobs, const std::string& sweep_exe) {
+                         int jobs, const std::string& sweep_exe, const SlurmLayout& layout) {
   const std::string study_file = fs::absolute(study.file).string();
   const std::string res = resolution.empty() ? "" : " --resolution " + resolution;
+  const SlurmLines lines = slurm_lines(layout);
   const fs::path logs = fs::absolute(study.output) / "slurm";
   return fmt::format(
       "#!/bin/bash\n"
@@ -175,19 +201,20 @@ std::string slurm_script(const Study& study, const std::string& resolution, std:
       "# skipped). When all tasks are done:  {exe} {study} --summary{res}\n"
       "#SBATCH --job-name=dld-{name}\n"
       "#SBATCH --array=0-{last}%{jobs}\n"
-      "#SBATCH --ntasks=1\n"
-      "#SBATCH --cpus-per-task=2\n"
+      "{sbatch}"
       "#SBATCH --output={logs}/%x-%a.log\n"
       "set -euo pipefail\n"
       "mkdir -p {logs}\n"
       "cd {cwd}\n"
       "export OMP_NUM_THREADS=${{SLURM_CPUS_PER_TASK:-1}}\n"
-      "exec {exe} {study} --index \"$SLURM_ARRAY_TASK_ID\"{res}\n",
+      "{setup}"
+      "exec {exe} {study} --index \"$SLURM_ARRAY_TASK_ID\"{res}{options}\n",
       fmt::arg("name", study.name), fmt::arg("runs", runs),
       fmt::arg("resnote", resolution.empty() ? "" : ", resolution " + resolution),
       fmt::arg("jobs", jobs), fmt::arg("exe", sweep_exe), fmt::arg("study", study_file),
       fmt::arg("res", res), fmt::arg("last", runs - 1), fmt::arg("logs", logs.string()),
-      fmt::arg("cwd", fs::current_path().string()));
+      fmt::arg("sbatch", lines.sbatch), fmt::arg("setup", lines.setup),
+      fmt::arg("options", lines.options), fmt::arg("cwd", fs::current_path().string()));
 }
 
 }  // namespace dld::coupler

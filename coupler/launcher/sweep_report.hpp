@@ -27,9 +27,17 @@ void mark_done(const StudyRun& run, double wall_s);
 std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
                           const std::string& resolution);
 
+/// How each task of a SLURM array spreads its run: membrane_nodes 0 keeps the whole run on one
+/// node (one task of 2 cores); M > 0 gives it 1 + M nodes, the fluid on the first and
+/// `membrane_processes` membrane processes (default M) on the other M (dld-run --hosts, which
+/// starts them through srun).
+struct SlurmLayout {
+  int membrane_nodes = 0, membrane_processes = 0;
+};
+
 /// A SLURM job-array script: task i runs `dld-sweep STUDY --resolution R --index i`, at most
 /// `jobs` at once; the summary is made afterwards with `dld-sweep STUDY --summary`.
 std::string slurm_script(const Study& study, const std::string& resolution, std::size_t runs,
-                         int jobs, const std::string& sweep_exe);
+                         int jobs, const std::string& sweep_exe, const SlurmLayout& layout = {});
 
 }  // namespace dld::coupler

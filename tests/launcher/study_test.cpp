@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "coupler/launcher/sweep_report.hpp"
 #include "shared/input_error.hpp"
 
 namespace {
@@ -74,6 +75,28 @@ TEST_F(StudyFile, RunsAreTheProductOfTheAxesWithTheirKeysSet) {
   // The written scene reads back to the same table.
   const auto back = toml::parse(dld::coupler::scene_text(r));
   EXPECT_EQ(back, r.scene);
+}
+
+// dld-sweep --slurm (issue 14): one node per run by default; with --membrane-nodes M, 1 + M
+// nodes, the hosts after the first handed to every run's dld-run.
+TEST_F(StudyFile, SlurmTasksSpanOneNodeOrOnePlusTheMembraneNodes) {
+  const auto study = dld::coupler::load_study(write(kTwoAxes));
+  const std::string one = dld::coupler::slurm_script(study, "coarse", 6, 2, "/bin/dld-sweep");
+  EXPECT_NE(one.find("#SBATCH --array=0-5%2\n#SBATCH --ntasks=1\n"), std::string::npos) << one;
+  EXPECT_EQ(one.find("--hosts"), std::string::npos) << one;
+  const std::string three =
+      dld::coupler::slurm_script(study, "coarse", 6, 2, "/bin/dld-sweep", {2, 5});
+  EXPECT_NE(three.find("#SBATCH --nodes=3\n#SBATCH --ntasks-per-node=3\n"), std::string::npos)
+      << three;
+  EXPECT_NE(three.find("hosts=$(scontrol show hostnames \"$SLURM_JOB_NODELIST\" | tail -n +2"),
+            std::string::npos)
+      << three;
+  EXPECT_NE(three.find("--index \"$SLURM_ARRAY_TASK_ID\" --resolution coarse "
+                       "--membrane-processes 5 --hosts \"$hosts\"\n"),
+            std::string::npos)
+      << three;
+  // The summary line names no hosts: it runs anywhere.
+  EXPECT_NE(three.find("--summary --resolution coarse\n"), std::string::npos) << three;
 }
 
 TEST_F(StudyFile, ResolutionsComeAlsoFromASharedFile) {
