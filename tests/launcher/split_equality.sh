@@ -5,15 +5,25 @@
 # K = 1, 2, 3 and 4 membrane processes over ipc: the final node positions must be bit for bit
 # those of K = 1, and with K > 1 contact pairs between cells of different processes must have
 # occurred (else the equality would prove nothing).
-# Usage: split_equality.sh DLD_RUN PROJECT_SOURCE_DIR [STEPS]
+# With SCENE (a scene file with a [coupling] table, e.g. configs/stability/dense17-coarse.toml:
+# 17 packed cells, seeded) that scene is split instead of the four touching cells (dense17-coarse
+# is unstable after ~12 000 steps at this resolution, and its cells meet no other process's within
+# 2000 steps at a contact range of 0.4 um: the equality then checks the split's bookkeeping).
+# Usage: split_equality.sh DLD_RUN PROJECT_SOURCE_DIR [STEPS [SCENE]]
 set -euo pipefail
-run=$1 src=$2 steps=${3:-400}
+run=$1 src=$2 steps=${3:-400} scene=${4:-}
 dir=$(mktemp -d /tmp/dld-split.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
 . "$(dirname "$0")/netns.sh"  # touching_cells_scene
 for k in 1 2 3 4; do
   mkdir -p "$dir/k$k"
-  touching_cells_scene "k$k" "$k" 60.0 > "$dir/k$k/scene.toml"
+  if [ -n "$scene" ]; then
+    sed -e "s/^name = .*/name = \"k$k\"/" -e "s|^file = .*|file = \"$dir/k$k/run.h5\"|" \
+        -e "s/^\[coupling\]$/[coupling]\nmembrane_processes = $k/" "$src/$scene" \
+        > "$dir/k$k/scene.toml"
+  else
+    touching_cells_scene "k$k" "$k" 60.0 > "$dir/k$k/scene.toml"
+  fi
   (cd "$src" && "$run" "$dir/k$k/scene.toml" --membrane cells --steps "$steps" \
       > "$dir/k$k/out.txt" 2>&1) || { echo "K = $k failed:"; cat "$dir/k$k/out.txt" \
       "$dir/k$k"/run-cells-*.log; exit 1; }
@@ -21,7 +31,10 @@ for k in 1 2 3 4; do
     pairs=$(sed -n 's/.*at most \([0-9]*\) contact pairs with their nodes.*/\1/p' \
               "$dir/k$k"/run-cells-*.log | sort -n | tail -1)
     echo "K = $k: at most ${pairs:-none} contact pairs with other processes' nodes in one step"
-    [ "${pairs:-0}" -gt 0 ] || { echo "K = $k: no contact across processes: the test proves nothing"; exit 1; }
+    # The touching cells must meet across processes, else the equality would prove nothing; a
+    # given scene may not within STEPS (its equality still checks the split bookkeeping).
+    [ "${pairs:-0}" -gt 0 ] || [ -n "$scene" ] ||
+      { echo "K = $k: no contact across processes: the test proves nothing"; exit 1; }
   fi
 done
 /usr/bin/python3 - "$dir" <<'PY'
