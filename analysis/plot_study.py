@@ -37,12 +37,15 @@ def main():
         sys.exit(f"plot_study.py: error: {a.csv}: missing column(s) {', '.join(missing)}"
                  f" (expected {', '.join(COLUMNS)})")
     groups = defaultdict(list)  # (d, Ca) -> [(Ht, mean, std, lambda)]
+    kinds = defaultdict(set)  # (d, Ca) -> {"p_fZ", "p_fD"}
     for i, r in enumerate(rows, start=2):
         v = {k: number(r, k, a.csv, i) for k in COLUMNS}
         if math.isnan(v["p_f_mean"]):
             continue
         groups[(v["row_shift_um"], v["capillary_number"])].append(
             (v["haematocrit_percent"], v["p_f_mean"], v["p_f_std"], v["pillar_spacing_um"]))
+        if r.get("failure"):  # p_fZ or p_fD: which failure the run's expected mode makes it
+            kinds[(v["row_shift_um"], v["capillary_number"])].add(r["failure"])
     shifts = sorted({d for d, _ in groups})
     if not shifts:
         sys.exit(f"plot_study.py: error: {a.csv}: no row with a failure probability")
@@ -62,12 +65,14 @@ def main():
             lam = pts[0][3]
             ax.errorbar([p[0] for p in pts], [p[1] for p in pts],
                         yerr=[0 if math.isnan(p[2]) else p[2] for p in pts], marker="o",
-                        capsize=3, label=f"Ca = {ca:g}")
+                        capsize=3,
+                        label=f"Ca = {ca:g}" + "".join(f" ({k})" for k in sorted(kinds[(dd, ca)])))
         ax.axhline(d / lam, color="k", ls="--", lw=1,
                    label=f"p_fD ceiling d/lambda = {d / lam:.3f}")
         ax.axhline(0, color="0.5", lw=0.5)
         ax.set_title(f"d = {d:g} um")
         ax.set_xlabel("Ht [%]")
+        ax.set_xlim(0, 50)  # the study's haematocrits, 8-45.6 %: runs still to come have a place
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
     axes[0][0].set_ylabel("failure probability (p_fZ or p_fD, mean +- std)")

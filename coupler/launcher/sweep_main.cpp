@@ -332,7 +332,7 @@ static int run_main(int argc, char** argv) {
                    dld::coupler::state_name(dld::coupler::run_state(r)));
       }
     }
-    if (o.summary_only) dld::coupler::write_summary(study, runs, resolution);
+    if (o.summary_only) write_study_summary(study, runs, resolution);
     if (o.list || o.summary_only) return 0;
 
     std::deque<const StudyRun*> queue;
