@@ -110,6 +110,9 @@ std::string format_report(const Run& run, const RunAnalysis& a) {
     s += fmt::format("outside the outlets: {} below O1, {} above O4\n", a.outlets.count[0],
                      a.outlets.count[5]);
   }
+  s += fmt::format(
+      "run: {:.0f} steps, slowest cell {:.2f} pillars, largest volume change {:.3f} %\n",
+      a.last_step, a.slowest_advance, 100 * a.volume_change);
   return s;
 }
 
@@ -138,9 +141,9 @@ std::vector<std::string> write_csvs(const Run& run, const RunAnalysis& a, const 
   std::string summary =
       "scene_name,pillar_spacing_um,row_shift_um,capillary_number,cells,pillars,expected_mode,"
       "expected_source,failure,p_f_mean,p_f_std,p_f_cells,p_fD_ceiling,outlet_pillars,O1,O2,O3,"
-      "O4,outside\n";
+      "O4,outside,steps,slowest_cell_pillars,largest_volume_change_percent\n";
   summary +=
-      fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+      fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{:.0f},{:.3f},{:.4f}\n",
                   csv_text(run.scene_name), csv_number(run.lambda_um), csv_number(run.row_shift_um),
                   run.capillary_number ? csv_number(*run.capillary_number) : "", run.cells.size(),
                   a.pillars_requested, a.expected.known() ? to_string(a.expected.mode) : "unknown",
@@ -149,7 +152,8 @@ std::vector<std::string> write_csvs(const Run& run, const RunAnalysis& a, const 
                   csv_number(run.row_shift_um / run.lambda_um), a.outlet_pillars,
                   csv_number(a.outlets.fraction(1)), csv_number(a.outlets.fraction(2)),
                   csv_number(a.outlets.fraction(3)), csv_number(a.outlets.fraction(4)),
-                  csv_number(a.outlets.fraction(0) + a.outlets.fraction(5)));
+                  csv_number(a.outlets.fraction(0) + a.outlets.fraction(5)), a.last_step,
+                  a.slowest_advance, 100 * a.volume_change);
 
   std::string outlets = "outlet,y_low_um,y_high_um,count,fraction,correct\n";
   for (int o = 1; o <= 4; ++o) {

@@ -4,10 +4,27 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "shared/input_error.hpp"
 
 namespace dld::analysis {
+
+namespace {
+
+/// last_step, slowest_advance and volume_change of `a` from the tracks and the evaluated cells.
+void add_run_extent(const Run& run, RunAnalysis& a) {
+  a.slowest_advance = a.cells.empty() ? 0 : a.cells.front().advance;
+  for (const CellResult& r : a.cells) a.slowest_advance = std::min(a.slowest_advance, r.advance);
+  for (const CellTrack& t : run.cells) {
+    if (!t.step.empty()) a.last_step = std::max(a.last_step, t.step.back());
+    if (t.volume.empty() || !(t.volume.front() > 0)) continue;
+    for (const double v : t.volume)
+      a.volume_change = std::max(a.volume_change, std::abs(v / t.volume.front() - 1));
+  }
+}
+
+}  // namespace
 
 RunAnalysis analyze_run(const Run& run, int pillars, const ExpectedMode& expected) {
   RunAnalysis a;
@@ -58,6 +75,7 @@ RunAnalysis analyze_run(const Run& run, int pillars, const ExpectedMode& expecte
     a.outlet_of_cell.push_back(outlet_of(a.bins, end_y.back()));
   }
   a.outlets = count_outlets(a.bins, end_y);
+  add_run_extent(run, a);
   if (a.outlet_pillars < pillars) {
     a.notes.push_back(
         fmt::format("outlets taken after {} columns (the fewest any cell passed), not {}",

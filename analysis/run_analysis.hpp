@@ -22,6 +22,10 @@ struct RunAnalysis {
   OutletBins bins;
   OutletCounts outlets;
   std::vector<int> outlet_of_cell;  ///< per cell (as in `cells`): 0..5, -1 when not evaluated
+  // How far the run got (SPEC 7 asks for them per run, beside the results):
+  double last_step = 0;        ///< the last sample's time step
+  double slowest_advance = 0;  ///< columns passed by the cell that passed fewest
+  double volume_change = 0;    ///< largest |V / V(first sample) - 1| of any cell at any sample
 };
 
 /// Evaluates every cell at N = `pillars` columns (or the largest whole number it passed). The

@@ -3,9 +3,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 namespace dld::coupler {
@@ -95,51 +97,81 @@ void mark_done(const StudyRun& run, double wall_s) {
   fs::rename(tmp, run.dir / "done.toml");
 }
 
+namespace {
+
+/// A CSV field as written: quoted when it holds a comma.
+std::string csv_field(const std::string& v) {
+  return v.find(',') == std::string::npos ? v : "\"" + v + "\"";
+}
+
+/// The summary's table: columns in order of first appearance, one name -> value map per run. Runs
+/// analysed by different versions of dld-analyze may have different columns: each value stays
+/// under its own name (a column a run lacks is empty).
+struct SummaryTable {
+  std::vector<std::string> columns;
+  std::vector<std::map<std::string, std::string>> rows;
+  void add(std::map<std::string, std::string>& row, const std::string& name,
+           const std::string& value) {
+    if (std::find(columns.begin(), columns.end(), name) == columns.end()) columns.push_back(name);
+    row[name] = value;
+  }
+  std::string line(const std::map<std::string, std::string>& row) const {
+    std::string out;
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      const auto it = row.find(columns[i]);
+      if (i > 0) out += ',';
+      if (it != row.end()) out += csv_field(it->second);
+    }
+    return out;
+  }
+};
+
+/// The finished runs' rows: the axes, the wall time and dld-analyze's run summary. `missing`
+/// counts the finished runs without one.
+SummaryTable summary_table(const Study& study, const std::vector<StudyRun>& runs, int& missing) {
+  SummaryTable t;
+  std::map<std::string, std::string> none;
+  t.add(none, "run", "");
+  for (const auto& a : study.axes) t.add(none, a.column.empty() ? a.name : a.column, "");
+  t.add(none, "wall_s", "");
+  for (const auto& run : runs) {
+    if (run_state(run) != RunState::kDone) continue;
+    std::map<std::string, std::string> row{{"run", run.name}};
+    for (std::size_t i = 0; i < study.axes.size(); ++i)
+      row[t.columns[1 + i]] = fmt::format("{:g}", run.coordinates[i]);
+    row["wall_s"] = fmt::format("{:.1f}", run_wall_s(run));
+    const auto a = lines(run.dir / "run-summary.csv");
+    if (a.size() >= 2) {
+      const auto names = cells(a[0]), values = cells(a[1]);
+      for (std::size_t i = 0; i < names.size(); ++i)
+        t.add(row, names[i], i < values.size() ? values[i] : "");
+    } else {
+      ++missing;
+    }
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+}  // namespace
+
 std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
                           const std::string& resolution) {
   const fs::path dir = study.output / (resolution.empty() ? std::string("default") : resolution);
   fs::create_directories(dir);
   const fs::path csv = dir / "summary.csv";
-  std::string header = "run";
-  for (const auto& a : study.axes) {
-    header += "," + (a.column.empty() ? a.name : a.column);
-  }
-  header += ",wall_s";
-  std::string analysis_header;
-  std::vector<std::string> rows;
   int missing = 0;
-  for (const auto& run : runs) {
-    if (run_state(run) != RunState::kDone) {
-      continue;
-    }
-    std::string row = run.name;
-    for (const double v : run.coordinates) {
-      row += fmt::format(",{:g}", v);
-    }
-    row += fmt::format(",{:.1f}", run_wall_s(run));
-    const auto a = lines(run.dir / "run-summary.csv");
-    if (a.size() >= 2) {
-      if (analysis_header.empty()) {
-        analysis_header = a[0];
-      }
-      row += "," + a[1];
-    } else {
-      ++missing;
-    }
-    rows.push_back(row);
-  }
+  const SummaryTable t = summary_table(study, runs, missing);
   {
     std::ofstream out(csv.string() + ".tmp");
-    out << header << (analysis_header.empty() ? "" : "," + analysis_header) << "\n";
-    for (const auto& r : rows) {
-      out << r << "\n";
-    }
+    out << fmt::format("{}", fmt::join(t.columns, ",")) << "\n";
+    for (const auto& r : t.rows) out << t.line(r) << "\n";
   }
   fs::rename(csv.string() + ".tmp", csv);
-  fmt::print("sweep summary ({} of {} runs finished{}): {}\n", rows.size(), runs.size(),
+  fmt::print("sweep summary ({} of {} runs finished{}): {}\n", t.rows.size(), runs.size(),
              missing ? fmt::format(", {} without analysis", missing) : "", csv.string());
   // On the terminal: the axes, wall time and the analysis's headline figures.
-  const auto head = cells(header + (analysis_header.empty() ? "" : "," + analysis_header));
+  const auto& head = t.columns;
   std::vector<std::size_t> shown;
   for (std::size_t i = 0; i < head.size(); ++i) {
     if (i < 2 + study.axes.size() ||
@@ -152,10 +184,10 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
     fmt::print("{:>12.12} ", head[i]);
   }
   fmt::print("\n");
-  for (const auto& r : rows) {
-    const auto c = cells(r);
+  for (const auto& r : t.rows) {
     for (const std::size_t i : shown) {
-      fmt::print("{:>12.12} ", i < c.size() ? c[i] : "");
+      const auto it = r.find(head[i]);
+      fmt::print("{:>12.12} ", it == r.end() ? "" : it->second);
     }
     fmt::print("\n");
   }

@@ -131,6 +131,19 @@ TEST(Evaluation, ShortCellIsEvaluatedAtTheWholeColumnsItPassed) {
   EXPECT_NE(a.notes.front().find("evaluated at 12 pillars"), std::string::npos);
 }
 
+TEST(Evaluation, TheRunsExtentIsItsLastStepSlowestCellAndLargestVolumeChange) {
+  CellTrack fast = track(
+      0, 0.0, 5.0, 30.2, [](double) { return 0.0; }, 400);
+  CellTrack slow = track(
+      1, 0.0, 9.0, 21.5, [](double) { return 0.0; }, 300);
+  fast.volume[200] = 94.0 * 0.99;  // -1 % once, back afterwards
+  slow.volume[150] = 94.0 * 1.004;
+  const RunAnalysis a = analyze_run(run_of({fast, slow}), 20, kZigzag);
+  EXPECT_DOUBLE_EQ(a.last_step, 100.0 * 400);
+  EXPECT_NEAR(a.slowest_advance, 21.5, 1e-9);
+  EXPECT_NEAR(a.volume_change, 0.01, 1e-12);
+}
+
 TEST(Evaluation, NoFailureProbabilityWithoutAnExpectedMode) {
   const RunAnalysis a =
       analyze_run(run_of({track(0, 0.0, 5.0, 10.5, [](double c) { return wiggle(c); })}), 10,
