@@ -35,19 +35,23 @@ class ResumePointTest : public ::testing::Test {
     for (int k = 0; k < n; ++k) p.push_back(path("cells-" + std::to_string(k)));
     return p;
   }
+  /// A run of two processes left step 200 (cells 0-1, 2-3), resumed with three (cells 0, 1-2,
+  /// 3) which wrote step 300, the third process only if `third_wrote` (its first checkpoint);
+  /// the fluid has 300 and 200 (.prev).
+  void two_then_three(bool third_wrote) const {
+    fluid("fluid", 300);
+    fluid("fluid.prev", 200);
+    cells("cells-0", 300, 0, 1);
+    cells("cells-1", 300, 1, 2);
+    if (third_wrote) cells("cells-2", 300, 3, 1);
+    cells("cells-0.prev", 200, 0, 2);
+    cells("cells-1.prev", 200, 2, 2);
+  }
   test::TempDir dir_{"dld-resume-point"};
 };
 
 TEST_F(ResumePointTest, TheNewestStepHoldingEveryCellOnceWins) {
-  // Three processes were at step 300 (cells 0, 1-2, 3) when a run of two had left step 200
-  // (cells 0-1, 2-3) as the .prev of the first two; the fluid has 300 and 200 (.prev).
-  fluid("fluid", 300);
-  fluid("fluid.prev", 200);
-  cells("cells-0", 300, 0, 1);
-  cells("cells-1", 300, 1, 2);
-  cells("cells-2", 300, 3, 1);
-  cells("cells-0.prev", 200, 0, 2);
-  cells("cells-1.prev", 200, 2, 2);
+  two_then_three(true);
   const ResumePoint r = coupled_resume_point(path("fluid"), parts(4), 4, 2);
   EXPECT_EQ(r.step, 300);
   EXPECT_EQ(r.fluid, path("fluid"));
@@ -55,13 +59,7 @@ TEST_F(ResumePointTest, TheNewestStepHoldingEveryCellOnceWins) {
 }
 
 TEST_F(ResumePointTest, AStepWithACellMissingFallsBackToTheOneBefore) {
-  // The three-process run stopped before its third process wrote step 300.
-  fluid("fluid", 300);
-  fluid("fluid.prev", 200);
-  cells("cells-0", 300, 0, 1);
-  cells("cells-1", 300, 1, 2);
-  cells("cells-0.prev", 200, 0, 2);
-  cells("cells-1.prev", 200, 2, 2);
+  two_then_three(false);  // stopped before its third process wrote step 300
   const ResumePoint r = coupled_resume_point(path("fluid"), parts(3), 4, 3);
   EXPECT_EQ(r.step, 200);
   EXPECT_EQ(r.fluid, path("fluid.prev"));

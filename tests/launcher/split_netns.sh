@@ -10,7 +10,8 @@ build=$1 src=$2 steps=${3:-400}
 fluid=$build/fluid/dld-fluid membrane=$build/membrane/dld-membrane
 run=$build/coupler/launcher/dld-run keys=$build/coupler/dld-keys
 dir=$(mktemp -d /tmp/dld-netns.XXXXXX)
-. "$(dirname "$0")/netns.sh"
+here=$(cd "$(dirname "$0")" && pwd)
+. "$here/netns.sh"
 make_namespaces
 scene() { touching_cells_scene "k$1" "$1" 60.0; }
 mkdir -p "$dir/k1" "$dir/k2"
@@ -40,15 +41,5 @@ if [ $status -ne 0 ]; then
   exit 1
 fi
 grep -h "contact halo" "$dir"/k2/cells-*.log
-/usr/bin/python3 - "$dir" <<'PY'
-import glob, sys
-import h5py, numpy as np
-d = sys.argv[1]
-def positions(pattern):
-    files = sorted(glob.glob(f"{d}/{pattern}"))
-    return np.concatenate([np.asarray(h5py.File(f)["membrane/positions"]) for f in files])
-ref, x = positions("k1/run-cells-*.ckpt.h5"), positions("k2/cells-*.ckpt.h5")
-diff = float(np.max(np.abs(x - ref))) if x.shape == ref.shape else float("inf")
-print(f"K = 2 over tcp + CURVE between namespaces: largest difference to K = 1: {diff:.3g}")
-sys.exit(0 if diff == 0.0 else 1)
-PY
+/usr/bin/python3 "$here/compare_positions.py" "K = 1 over ipc" "$dir/k1/run-cells-*.ckpt.h5" \
+  "K = 2 over tcp + CURVE between namespaces" "$dir/k2/cells-*.ckpt.h5"
