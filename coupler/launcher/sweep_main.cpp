@@ -328,8 +328,10 @@ static int run_main(int argc, char** argv) {
     }
     if (o.list) {
       for (const auto& r : runs) {
-        fmt::print("{:3d}  {:24s} {}\n", r.index, r.name,
-                   dld::coupler::state_name(dld::coupler::run_state(r)));
+        const std::string progress = dld::coupler::run_progress(r);
+        fmt::print("{:3d}  {:24s} {}{}\n", r.index, r.name,
+                   dld::coupler::state_name(dld::coupler::run_state(r)),
+                   progress.empty() ? "" : ": " + progress);
       }
     }
     if (o.summary_only) write_study_summary(study, runs, resolution);

@@ -79,6 +79,54 @@ double run_wall_s(const StudyRun& run) {
   return total;
 }
 
+namespace {
+
+/// From a membrane progress line "... step N  pillars passed X/Y ...": N and "X/Y".
+bool parse_progress(const std::string& line, long long& step, std::string& pillars) {
+  const std::size_t s = line.find("] step "), p = line.find("pillars passed ");
+  if (s == std::string::npos || p == std::string::npos) return false;
+  try {
+    step = std::stoll(line.substr(s + 7));
+  } catch (const std::exception&) {
+    return false;
+  }
+  const std::size_t from = p + 15, to = line.find(' ', from);
+  pillars = line.substr(from, to == std::string::npos ? std::string::npos : to - from);
+  return true;
+}
+
+}  // namespace
+
+std::string run_progress(const StudyRun& run) {
+  std::string progress;
+  double slowest = 1e300;
+  std::error_code ec;
+  // A finished run's last progress line is from before its end: its analysis says the rest.
+  const bool done = run_state(run) == RunState::kDone;
+  for (const auto& e : fs::directory_iterator(run.dir, ec)) {
+    if (done) break;
+    const std::string f = e.path().filename().string();
+    if (f.rfind("run-cells-", 0) != 0 || f.size() < 4 || f.substr(f.size() - 4) != ".log") continue;
+    const auto l = lines(e.path());
+    for (auto it = l.rbegin(); it != l.rend(); ++it) {
+      long long s = 0;
+      std::string pillars;
+      if (!parse_progress(*it, s, pillars)) continue;
+      const double passed = std::atof(pillars.c_str());
+      if (passed < slowest) {
+        slowest = passed;
+        progress = fmt::format("step {}, {} pillars", s, pillars);
+      }
+      break;
+    }
+  }
+  const double wall = run_wall_s(run);
+  if (wall > 0)
+    progress +=
+        fmt::format("{}{:.1f} h in finished attempts", progress.empty() ? "" : ", ", wall / 3600);
+  return progress;
+}
+
 void record_attempt(const StudyRun& run, int exit_code, double wall_s) {
   const fs::path p = run.dir / "attempts.csv";
   const bool fresh = !fs::exists(p);

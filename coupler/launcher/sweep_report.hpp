@@ -17,6 +17,10 @@ RunState run_state(const StudyRun& run);
 const char* state_name(RunState s);
 /// Wall time of all attempts of a run so far (seconds), from <dir>/attempts.csv.
 double run_wall_s(const StudyRun& run);
+/// How far a run got, for --list: the newest progress line of its membrane logs (step and the
+/// slowest process's pillars, e.g. "step 4145000, 17.00/20 pillars") and the wall time of its
+/// finished attempts; "" when there is neither.
+std::string run_progress(const StudyRun& run);
 /// Appends one attempt (exit code, wall time) to <dir>/attempts.csv.
 void record_attempt(const StudyRun& run, int exit_code, double wall_s);
 /// Marks a run finished (written last, through a temporary file and a rename).

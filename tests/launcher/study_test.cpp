@@ -99,6 +99,24 @@ TEST_F(StudyFile, SlurmTasksSpanOneNodeOrOnePlusTheMembraneNodes) {
   EXPECT_NE(three.find("--summary --resolution coarse\n"), std::string::npos) << three;
 }
 
+// dld-sweep --list: a partial run shows the slowest membrane process's newest progress line.
+TEST_F(StudyFile, AListedPartialRunShowsItsSlowestProcessesProgress) {
+  dld::coupler::StudyRun r;
+  r.dir = dir_ / "run";
+  fs::create_directories(r.dir);
+  EXPECT_EQ(dld::coupler::run_progress(r), "");
+  std::ofstream(r.dir / "run-cells-0.log")
+      << "[dld-membrane] step 1000  pillars passed 0.40/2  300 steps/s  ETA 9 s  modes 0:z\n"
+      << "[dld-membrane] step 2000  pillars passed 0.80/2  300 steps/s  ETA 9 s  modes 0:z\n"
+      << "[dld-membrane] checkpoint written\n";
+  std::ofstream(r.dir / "run-cells-1.log")
+      << "[dld-membrane] step 2000  pillars passed 0.60/2  300 steps/s  ETA 9 s  modes 1:z\n";
+  std::ofstream(r.dir / "run-fluid.ckpt.h5") << "x";  // partial
+  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars");
+  std::ofstream(r.dir / "attempts.csv") << "finished_unix_s,exit_code,wall_s\n1,130,5400.0\n";
+  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars, 1.5 h in finished attempts");
+}
+
 TEST_F(StudyFile, ResolutionsComeAlsoFromASharedFile) {
   std::ofstream(dir_ / "r.toml") << "[resolution.fast]\n\"drive.reynolds\" = 0.5\n";
   const auto study =
