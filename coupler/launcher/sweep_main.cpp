@@ -223,6 +223,7 @@ class Sweep {
       const StudyRun* r = queue_.front();
       queue_.pop_front();
       const fs::path scene = prepare(*r);
+      if (!dry_) dld::coupler::fold_lost_attempt(*r);  // a killed sweep's attempt, before this one
       const bool resume = dld::coupler::run_state(*r) == RunState::kPartial;
       const std::int64_t steps = study_.max_steps > 0 ? study_.max_steps : 1000000000000LL;
       std::vector<std::string> cmd{run_exe_,
@@ -282,6 +283,8 @@ class Sweep {
     for (const auto& x : running_) {
       fmt::print("  {}: {}\n", x.run->name,
                  dld::coupler::last_line((x.run->dir / "run-cells-0.log").string()));
+      dld::coupler::note_running_attempt(*x.run,
+                                         std::chrono::duration<double>(now - x.start).count());
     }
     std::fflush(stdout);
     last_report_ = now;

@@ -76,6 +76,8 @@ double run_wall_s(const StudyRun& run) {
       total += std::stod(c[2]);
     }
   }
+  const auto running = lines(run.dir / "attempt-running.csv");  // running, or lost to a kill
+  if (running.size() >= 2) total += std::atof(running[1].c_str());
   return total;
 }
 
@@ -122,12 +124,27 @@ std::string run_progress(const StudyRun& run) {
   }
   const double wall = run_wall_s(run);
   if (wall > 0)
-    progress +=
-        fmt::format("{}{:.1f} h in finished attempts", progress.empty() ? "" : ", ", wall / 3600);
+    progress += fmt::format("{}{:.1f} h so far", progress.empty() ? "" : ", ", wall / 3600);
   return progress;
 }
 
+void note_running_attempt(const StudyRun& run, double wall_s) {
+  const fs::path p = run.dir / "attempt-running.csv", tmp = run.dir / "attempt-running.csv.tmp";
+  std::ofstream(tmp) << fmt::format("wall_s\n{:.1f}\n", wall_s);
+  std::error_code ec;
+  fs::rename(tmp, p, ec);
+}
+
+void fold_lost_attempt(const StudyRun& run) {
+  const fs::path p = run.dir / "attempt-running.csv";
+  const auto l = lines(p);
+  if (l.size() < 2) return;
+  record_attempt(run, -1, std::atof(l[1].c_str()));  // removes p
+}
+
 void record_attempt(const StudyRun& run, int exit_code, double wall_s) {
+  std::error_code ec;
+  fs::remove(run.dir / "attempt-running.csv", ec);
   const fs::path p = run.dir / "attempts.csv";
   const bool fresh = !fs::exists(p);
   std::ofstream out(p, std::ios::app);

@@ -15,14 +15,21 @@ enum class RunState { kWaiting, kPartial, kDone };
 /// done: <dir>/done.toml exists; partial: a checkpoint exists; else waiting.
 RunState run_state(const StudyRun& run);
 const char* state_name(RunState s);
-/// Wall time of all attempts of a run so far (seconds), from <dir>/attempts.csv.
+/// Wall time of all attempts of a run so far (seconds), from <dir>/attempts.csv and the running
+/// attempt's <dir>/attempt-running.csv.
 double run_wall_s(const StudyRun& run);
 /// How far a run got, for --list: the newest progress line of its membrane logs (step and the
-/// slowest process's pillars, e.g. "step 4145000, 17.00/20 pillars") and the wall time of its
-/// finished attempts; "" when there is neither.
+/// slowest process's pillars, e.g. "step 4145000, 17.00/20 pillars") and its wall time so far
+/// (run_wall_s); "" when there is neither.
 std::string run_progress(const StudyRun& run);
 /// Appends one attempt (exit code, wall time) to <dir>/attempts.csv.
 void record_attempt(const StudyRun& run, int exit_code, double wall_s);
+/// The running attempt's wall time so far, in <dir>/attempt-running.csv (rewritten through a
+/// rename): a sweep that is killed (SIGKILL, the end of a session or a node) records nothing
+/// else. record_attempt removes it; fold_lost_attempt, called before a run starts, moves one left
+/// by a killed sweep into attempts.csv with exit code -1, so no wall time is lost.
+void note_running_attempt(const StudyRun& run, double wall_s);
+void fold_lost_attempt(const StudyRun& run);
 /// Marks a run finished (written last, through a temporary file and a rename).
 void mark_done(const StudyRun& run, double wall_s);
 

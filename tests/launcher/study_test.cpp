@@ -114,7 +114,16 @@ TEST_F(StudyFile, AListedPartialRunShowsItsSlowestProcessesProgress) {
   std::ofstream(r.dir / "run-fluid.ckpt.h5") << "x";  // partial
   EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars");
   std::ofstream(r.dir / "attempts.csv") << "finished_unix_s,exit_code,wall_s\n1,130,5400.0\n";
-  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars, 1.5 h in finished attempts");
+  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars, 1.5 h so far");
+  // A sweep killed while the run ran left its attempt's time; the next start keeps it.
+  dld::coupler::note_running_attempt(r, 1800.0);
+  EXPECT_DOUBLE_EQ(dld::coupler::run_wall_s(r), 7200.0);
+  dld::coupler::fold_lost_attempt(r);
+  EXPECT_FALSE(fs::exists(r.dir / "attempt-running.csv"));
+  EXPECT_DOUBLE_EQ(dld::coupler::run_wall_s(r), 7200.0);
+  std::ifstream in(r.dir / "attempts.csv");
+  const std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(all.find(",-1,1800.0\n"), std::string::npos) << all;
 }
 
 TEST_F(StudyFile, ResolutionsComeAlsoFromASharedFile) {
