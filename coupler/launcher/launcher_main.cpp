@@ -405,6 +405,7 @@ static int run_main(int argc, char** argv) {
     const auto place = dld::coupler::make_placement(o.hosts, scene.coupling.membrane_processes,
                                                     o.fluid_host, o.start_with);
     if (place.remote()) scene.coupling.transport = "tcp";  // with CURVE (add_curve_keys)
+    if (!place.warning.empty()) fmt::print(stderr, "dld-run: warning: {}\n", place.warning);
     const RunPaths paths = run_paths(scene, o.scene_path, place, o.port);
     const RemoveOnExit sockets{paths.sock_dir}, keys{paths.key_dir};
     const int cells = cell_count(scene, o);

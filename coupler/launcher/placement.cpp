@@ -74,8 +74,14 @@ Placement make_placement(const std::vector<std::string>& hosts, int processes,
   for (int k = 0; k < processes; ++k) p.hosts.push_back(hosts[k % hosts.size()]);
   p.fluid_address = fluid_address.empty() ? this_host_name() : fluid_address;
   p.start_with = start_with;
-  if (p.start_with.empty())
-    p.start_with = std::getenv("SLURM_JOB_ID") != nullptr ? kSrunTemplate : "print";
+  const bool in_slurm = std::getenv("SLURM_JOB_ID") != nullptr;
+  if (p.start_with.empty()) p.start_with = in_slurm ? kSrunTemplate : "print";
+  // slurmd sets SLURMD_NODENAME on the allocation's nodes only: an salloc shell lacks it.
+  if (in_slurm && std::getenv("SLURMD_NODENAME") == nullptr)
+    p.warning = fmt::format(
+        "inside a SLURM allocation but not on one of its nodes (an salloc shell?): the fluid runs "
+        "here, on {}; submit with sbatch to run it on the allocation's first node",
+        this_host_name());
   if (!p.printed() && p.start_with.find("{host}") == std::string::npos)
     throw InputError(
         fmt::format("--start-with '{}': expected a command with {{host}} in it "

@@ -15,6 +15,7 @@ struct Placement {
   std::string fluid_address;       ///< the address the membrane hosts connect to
   /// Command template, "{host}" replaced; "print": print each command for the user to start.
   std::string start_with;
+  std::string warning;  ///< to print before the run, e.g. an salloc shell on the login node
   bool remote() const { return !hosts.empty(); }
   bool printed() const { return start_with == "print"; }
 };

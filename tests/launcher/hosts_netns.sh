@@ -44,10 +44,16 @@ place() {  # NAME ARGS...: the touching cells, K = 2 on B, dld-run in A
 }
 place template --start-with "ip netns exec {host}" > "$dir/template.txt" 2>&1 ||
   { echo "--start-with failed:"; cat "$dir/template.txt"; tail -n 3 "$dir"/template/*.log; exit 1; }
-PATH=$dir/bin:$PATH SLURM_JOB_ID=1 place srun > "$dir/srun.txt" 2>&1 ||
+PATH=$dir/bin:$PATH SLURM_JOB_ID=1 SLURMD_NODENAME=$a place srun > "$dir/srun.txt" 2>&1 ||
   { echo "srun failed:"; cat "$dir/srun.txt"; tail -n 3 "$dir"/srun/*.log; exit 1; }
 grep -q "srun --nodes=1 --ntasks=1 --nodelist=$b" "$dir/srun.txt" ||
   { echo "inside SLURM, dld-run did not start the membrane processes through srun"; exit 1; }
+! grep -q "warning" "$dir/srun.txt" || { echo "a warning on an allocation's node:"; cat "$dir/srun.txt"; exit 1; }
+# In an salloc shell (SLURM_JOB_ID but no SLURMD_NODENAME) the fluid would stay on the login node.
+SLURM_JOB_ID=1 "$run" "$dir/srun/scene.toml" --membrane cells --hosts "$b" --membrane-processes 2 \
+  --dry-run > "$dir/salloc.txt" 2>&1 || true
+grep -q "not on one of its nodes (an salloc shell?)" "$dir/salloc.txt" ||
+  { echo "no warning outside the allocation's nodes"; exit 1; }
 
 place printed --start-with print > "$dir/printed.txt" 2>&1 &
 launcher=$!
