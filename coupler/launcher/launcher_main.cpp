@@ -176,6 +176,12 @@ RunPaths run_paths(const dld::Scene& scene, const std::string& scene_path,
   // per-launcher base (tcp across machines: start dld-fluid --serve and dld-membrane --connect by
   // hand, docs/protocol.md).
   if (port == 0) port = 20000 + (getpid() % 2000) * 16;
+  const int peers = scene.coupling.membrane_processes;  // one port each: P, P + 1, ...
+  if (scene.coupling.transport == "tcp" && port + peers - 1 > 65535)
+    throw dld::InputError(
+        fmt::format("--port {}: {} membrane processes need ports {} to {}, "
+                    "past 65535",
+                    port, peers, port, port + peers - 1));
   p.serve = scene.coupling.transport == "tcp" ? fmt::format("tcp://127.0.0.1:{}", port)
                                               : "ipc://" + (p.sock_dir / "fluid").string();
   p.connect = p.serve;

@@ -315,6 +315,27 @@ TEST_F(DldRunMerge, DryRunRefusesAnInvalidMembranePart) {
   EXPECT_EQ(test::wait_for(ok, 30), 0) << slurp(log);
 }
 
+// Bad placement (issue 14): one error line naming the option, exit 2, before anything starts.
+TEST_F(DldRunMerge, BadPlacementIsOneLineNamingTheOption) {
+  const std::string log = (dir_.path() / "place.log").string();
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{"--hosts", "a,b,c", "--membrane-processes", "2"}, "--hosts: 3 hosts for 2 membrane"},
+      {{"--hosts", "a", "--start-with", "ssh"},
+       "--start-with 'ssh': expected a command with {host}"},
+      {{"--start-with", "ssh {host}"},
+       "--start-with and --fluid-host place membrane processes on --hosts: expected --hosts too"},
+      {{"--hosts", "a,b", "--membrane-processes", "2", "--start-with", "ssh {host}", "--port",
+        "65535"},
+       "--port 65535: 2 membrane processes need ports 65535 to 65536"}};
+  for (const auto& [args, message] : cases) {
+    std::vector<std::string> argv{(bin() / "dld-run").string(), scene_, "--membrane", "cells",
+                                  "--dry-run"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    EXPECT_EQ(test::wait_for(test::spawn(argv, log), 30), 2) << slurp(log);
+    EXPECT_NE(slurp(log).find("error: " + message), std::string::npos) << slurp(log);
+  }
+}
+
 // --resume names each checkpoint it cannot use and why: a corrupt file is not a missing one.
 TEST_F(DldRunMerge, ResumeTellsACorruptCheckpointFromAMissingOne) {
   std::ofstream(stem() + "-fluid.ckpt.h5") << "cut short by a crash\n";
