@@ -270,9 +270,13 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
 // The halo frame follows the velocities (or the welcome) and carries the cells at step_.
 void MembraneSide::receive_halo() {
   auto frame = channel_->receive(config_.options.timeout);
+  // The halo needs every process's nodes: the fluid may be waiting for a dead or hung one, as
+  // for the velocities above; half a timeout more lets its error frame naming it arrive first.
+  if (!frame) frame = channel_->receive(config_.options.timeout / 2);
   if (!frame) {
-    throw CouplerError(fmt::format("{}: no contact halo from the fluid within {} s at step {}",
-                                   self_, seconds(config_.options.timeout), step_));
+    throw CouplerError(
+        fmt::format("{}: no contact halo from the fluid within {} s at step {}", self_,
+                    seconds(config_.options.timeout + config_.options.timeout / 2), step_));
   }
   const Link link{self_, kFluid};
   const FrameHeader header = read_header(*frame, link, step_);
