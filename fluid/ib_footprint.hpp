@@ -62,17 +62,29 @@ inline int axis_weights(IbKernel kernel, double c, double* w) {
 template <int W>
 inline void spread_footprint(const IbFootprint<W>& p, const double* f, double* const field[3]) {
   if constexpr (W == 4) {
+    // Everything the rows need is copied to locals first: the field's stores could otherwise
+    // alias the footprint's weights and the field pointers (behind OpenMP's shared-variable
+    // struct), which the compiler would then reload after every store.
     using detail::V4;
+    double* const f0 = field[0];
+    double* const f1 = field[1];
+    double* const f2 = field[2];
     const V4 wx = detail::load4(p.wx);
     const V4 g0 = wx * f[0], g1 = wx * f[1], g2 = wx * f[2];
+    double wzy[16];
+    std::size_t node[16];
     for (int c = 0; c < 4; ++c)
       for (int b = 0; b < 4; ++b) {
-        const double w = p.wz[c] * p.wy[b];
-        const std::size_t n = p.layer[c] + p.row[b] + p.x0;
-        detail::store4(field[0] + n, detail::load4(field[0] + n) + w * g0);
-        detail::store4(field[1] + n, detail::load4(field[1] + n) + w * g1);
-        detail::store4(field[2] + n, detail::load4(field[2] + n) + w * g2);
+        wzy[4 * c + b] = p.wz[c] * p.wy[b];
+        node[4 * c + b] = p.layer[c] + p.row[b] + p.x0;
       }
+    for (int r = 0; r < 16; ++r) {
+      const double w = wzy[r];
+      const std::size_t n = node[r];
+      detail::store4(f0 + n, detail::load4(f0 + n) + w * g0);
+      detail::store4(f1 + n, detail::load4(f1 + n) + w * g1);
+      detail::store4(f2 + n, detail::load4(f2 + n) + w * g2);
+    }
     return;
   }
   for (int c = 0; c < W; ++c)
@@ -168,24 +180,30 @@ inline void spread_footprint(const IbSplitFootprint<W>& p, const double* f,
     // neither read nor written. Each lane's weight is formed as for_each_node forms it.
     const __mmask8 first = static_cast<__mmask8>((1u << p.split) - 1);
     const auto second = static_cast<__mmask8>(0xF & ~first);
+    // Weights, rows and field pointers in locals first, as in spread_footprint(IbFootprint).
     const __m256d wx = _mm256_loadu_pd(p.wx);
+    __m256d w0[16], w1[16];
+    std::size_t n0[16], n1[16];
     for (int c = 0; c < 4; ++c)
       for (int b = 0; b < 4; ++b) {
         const __m256d wz = _mm256_set1_pd(p.wz[c]);
-        const __m256d w0 = _mm256_mul_pd(_mm256_mul_pd(wx, _mm256_set1_pd(p.wy[0][b])), wz);
-        const __m256d w1 = _mm256_mul_pd(_mm256_mul_pd(wx, _mm256_set1_pd(p.wy[1][b])), wz);
-        const std::size_t n0 = p.layer[c] + p.row[0][b] + p.x0[0];
-        const std::size_t n1 =
-            p.layer[c] + p.row[1][b] + p.x0[1] - static_cast<std::size_t>(p.split);
-        for (int d = 0; d < 3; ++d) {
-          const __m256d fd = _mm256_set1_pd(f[d]);
-          double* const a = field[d] + n0;
-          double* const z = field[d] + n1;
-          _mm256_mask_storeu_pd(a, first, _mm256_fmadd_pd(w0, fd, _mm256_maskz_loadu_pd(first, a)));
-          _mm256_mask_storeu_pd(z, second,
-                                _mm256_fmadd_pd(w1, fd, _mm256_maskz_loadu_pd(second, z)));
-        }
+        w0[4 * c + b] = _mm256_mul_pd(_mm256_mul_pd(wx, _mm256_set1_pd(p.wy[0][b])), wz);
+        w1[4 * c + b] = _mm256_mul_pd(_mm256_mul_pd(wx, _mm256_set1_pd(p.wy[1][b])), wz);
+        n0[4 * c + b] = p.layer[c] + p.row[0][b] + p.x0[0];
+        n1[4 * c + b] = p.layer[c] + p.row[1][b] + p.x0[1] - static_cast<std::size_t>(p.split);
       }
+    for (int d = 0; d < 3; ++d) {
+      const __m256d fd = _mm256_set1_pd(f[d]);
+      double* const out = field[d];
+      for (int r = 0; r < 16; ++r) {
+        double* const a = out + n0[r];
+        double* const z = out + n1[r];
+        _mm256_mask_storeu_pd(a, first,
+                              _mm256_fmadd_pd(w0[r], fd, _mm256_maskz_loadu_pd(first, a)));
+        _mm256_mask_storeu_pd(z, second,
+                              _mm256_fmadd_pd(w1[r], fd, _mm256_maskz_loadu_pd(second, z)));
+      }
+    }
     return;
   }
 #endif

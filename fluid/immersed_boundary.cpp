@@ -158,6 +158,9 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
     spread_footprints_.resize(markers);
     spread_split_.resize(markers);
     spread_kind_.resize(markers);
+    spread_stencil_.resize(markers);
+    kept_nodes_.resize(static_cast<std::size_t>(slabs));
+    kept_weights_.resize(static_cast<std::size_t>(slabs));
   }
   double* const out[3] = {field[0], field[1], field[2]};
   std::size_t bad = markers;
@@ -168,6 +171,10 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
       for (std::size_t i = 0; i < n; ++i) field[a][i] = 0.0;
     }
     const int t = omp_get_thread_num(), nt = omp_get_num_threads();
+    if constexpr (keep) {
+      kept_nodes_[static_cast<std::size_t>(t)].clear();
+      kept_weights_[static_cast<std::size_t>(t)].clear();
+    }
     IbFootprint<W> fp;
     IbSplitFootprint<W> sp;
     IbStencil s;
@@ -202,8 +209,12 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
             }
             spread_footprint(sp, &forces[3 * m], out);
           } else if (std::isfinite(positions[3 * m]) && stencil(&positions[3 * m], s)) {
+            const double f[3] = {forces[3 * m], forces[3 * m + 1], forces[3 * m + 2]};
+            double* const o[3] = {out[0], out[1], out[2]};  // locals: no reload after each store
             for (int k = 0; k < s.count; ++k)
-              for (int a = 0; a < 3; ++a) out[a][s.node[k]] += s.weight[k] * forces[3 * m + a];
+              for (int a = 0; a < 3; ++a) o[a][s.node[k]] += s.weight[k] * f[a];
+            if constexpr (keep) keep_stencil(s, t, spread_stencil_[q]);
+            if constexpr (keep) spread_kind_[q] = kKeptStencil;
           } else {
             bad = std::min(bad, m);
           }
@@ -226,6 +237,27 @@ void ImmersedBoundary::spread(std::span<const double> positions, std::span<const
     case IbKernel::kPeskin4:
       return spread_w<4>(positions, forces, field);
   }
+}
+
+void ImmersedBoundary::keep_stencil(const IbStencil& s, int thread, KeptStencil& kept) const {
+  std::vector<std::size_t>& nodes = kept_nodes_[static_cast<std::size_t>(thread)];
+  std::vector<double>& weights = kept_weights_[static_cast<std::size_t>(thread)];
+  const auto count = static_cast<std::size_t>(s.count);
+  kept = {static_cast<std::uint32_t>(thread), static_cast<std::uint32_t>(nodes.size()),
+          static_cast<std::uint32_t>(count)};
+  nodes.insert(nodes.end(), s.node.begin(), s.node.begin() + s.count);
+  weights.insert(weights.end(), s.weight.begin(), s.weight.begin() + s.count);
+}
+
+// The same sum, in the same order, as interpolating through stencil() anew.
+void ImmersedBoundary::interpolate_kept_stencil(const KeptStencil& kept, const double* const v[3],
+                                                double* out) const {
+  const std::size_t* node = kept_nodes_[kept.thread].data() + kept.offset;
+  const double* weight = kept_weights_[kept.thread].data() + kept.offset;
+  double u[3] = {0, 0, 0};
+  for (std::uint32_t k = 0; k < kept.count; ++k)
+    for (int a = 0; a < 3; ++a) u[a] += weight[k] * v[a][node[k]];
+  for (int a = 0; a < 3; ++a) out[a] = u[a];
 }
 
 template <int W>
@@ -254,6 +286,10 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
         }
         if (spread_kind_[q] == kKeptSplit) {
           interpolate_footprint(spread_split_[q], v, &out[3 * m]);
+          continue;
+        }
+        if (spread_kind_[q] == kKeptStencil) {
+          interpolate_kept_stencil(spread_stencil_[q], v, &out[3 * m]);
           continue;
         }
       }

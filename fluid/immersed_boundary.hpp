@@ -78,6 +78,13 @@ class ImmersedBoundary {
   template <int W>
   void spread_w(std::span<const double> positions, std::span<const double> forces,
                 const std::array<double*, 3>& field) const;
+  struct KeptStencil {
+    std::uint32_t thread, offset, count;  ///< where in kept_nodes_/kept_weights_ of which thread
+  };
+  /// Copies stencil s of a marker spread by `thread` into that thread's kept nodes and weights.
+  void keep_stencil(const IbStencil& s, int thread, KeptStencil& kept) const;
+  void interpolate_kept_stencil(const KeptStencil& kept, const double* const v[3],
+                                double* out) const;
   template <int W>
   void interpolate_w(std::span<const double> positions,
                      const std::array<const double*, 3>& velocity, std::span<double> out) const;
@@ -109,9 +116,13 @@ class ImmersedBoundary {
   // The 4-point footprints of the last spread, in order_; interpolation at the same positions
   // (a coupled step spreads and interpolates at one set) reads them instead of recomputing.
   // Those across the shifted x face (about a tenth of a dense run's markers) are kept too.
-  enum : std::uint8_t { kKeptNone, kKeptSeparable, kKeptSplit };
+  // Those near a solid keep their stencil() nodes and weights, packed per spreading thread.
+  enum : std::uint8_t { kKeptNone, kKeptSeparable, kKeptSplit, kKeptStencil };
   mutable std::vector<IbFootprint<4>> spread_footprints_;
   mutable std::vector<IbSplitFootprint<4>> spread_split_;
+  mutable std::vector<KeptStencil> spread_stencil_;
+  mutable std::vector<std::vector<std::size_t>> kept_nodes_;
+  mutable std::vector<std::vector<double>> kept_weights_;
   mutable std::vector<std::uint8_t> spread_kind_;
   mutable std::vector<double> spread_positions_;
 };

@@ -9,7 +9,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fluid/fluid_solver.hpp"
@@ -21,6 +23,7 @@
 #endif
 #include "memory_bandwidth.hpp"
 #include "naive_bgk.hpp"
+#include "shared/h5file.hpp"
 #include "shared/scene.hpp"
 
 namespace {
@@ -174,6 +177,55 @@ BENCHMARK(BM_IbCoupledStep)
     ->ArgsProduct({{1, 2}, {1, 17}})
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
+
+// The same on a production run's markers (the positions of a membrane checkpoint, with cells
+// squeezing past the pillar: the near-solid stencils the clouds above avoid). Registered only when
+// DLD_BENCH_SCENE (the run's scene.toml) and DLD_BENCH_POSITIONS (its run-cells-K.ckpt.h5) are set:
+//   DLD_BENCH_SCENE=runs/.../scene.toml DLD_BENCH_POSITIONS=runs/.../run-cells-0.ckpt.h5
+//   build/bench/fluid/bench_fluid --benchmark_filter=BM_IbCoupledStepOfRun (the two set first)
+void BM_IbCoupledStepOfRun(benchmark::State& state, const std::string& scene_file,
+                           const std::string& positions_file) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld::fluid::fluid_config(dld::load_scene(scene_file)));
+  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
+  auto x = dld::H5File(positions_file, dld::H5File::Mode::kRead).read("membrane/positions");
+  const std::vector<double> f(x.size(), 1e-6);
+  std::vector<double> u(x.size());
+  s.force_field();
+  s.step();
+  double dx = 1e-4;
+  for (auto _ : state) {
+    for (double& v : x) v += dx;
+    dx = -dx;
+    ib.spread(x, f, s.force_field());
+    ib.interpolate(x, s.velocity_field(), u);
+  }
+  std::size_t separable = 0, split = 0, markers = x.size() / 3;
+  for (std::size_t m = 0; m < markers; ++m) {
+    dld::fluid::IbFootprint<4> fp;
+    dld::fluid::IbSplitFootprint<4> sp;
+    if (ib.footprint<4>(&x[3 * m], fp))
+      ++separable;
+    else if (ib.split_footprint<4>(&x[3 * m], sp))
+      ++split;
+  }
+  state.counters["markers"] = static_cast<double>(markers);
+  state.counters["split"] = static_cast<double>(split);
+  state.counters["stencil"] = static_cast<double>(markers - separable - split);
+}
+
+void register_run_benchmark() {
+  const char* scene = std::getenv("DLD_BENCH_SCENE");
+  const char* positions = std::getenv("DLD_BENCH_POSITIONS");
+  if (scene == nullptr || positions == nullptr) return;
+  benchmark::RegisterBenchmark("BM_IbCoupledStepOfRun", BM_IbCoupledStepOfRun, std::string(scene),
+                               std::string(positions))
+      ->Arg(1)
+      ->Arg(2)
+      ->UseRealTime()
+      ->Unit(benchmark::kMicrosecond);
+}
+const bool kRunBenchmarkRegistered = (register_run_benchmark(), true);
 
 #ifdef DLD_BENCH_CELLS
 // The inside/outside viscosity field of one coupled step for `cells` closed cells: icospheres of

@@ -242,6 +242,20 @@ TEST(ImmersedBoundary, SpreadAndInterpolateEqualTheNodeListSums) {
           want_u[3 * m + a] += s.weight[q] * vel[a * n + s.node[q]];
         }
     }
+    if (k == IbKernel::kPeskin4) {  // every kind of kept footprint is exercised
+      std::size_t separable = 0, split = 0;
+      for (std::size_t m = 0; m < pos.size() / 3; ++m) {
+        IbFootprint<4> fp;
+        IbSplitFootprint<4> sp;
+        if (ib.footprint<4>(&pos[3 * m], fp))
+          ++separable;
+        else if (ib.split_footprint<4>(&pos[3 * m], sp))
+          ++split;
+      }
+      EXPECT_GT(separable, 0U);
+      EXPECT_GT(split, 0U);
+      EXPECT_GT(pos.size() / 3 - separable - split, 0U);
+    }
     for (int threads : {1, 2}) {
       omp_set_num_threads(threads);
       std::vector<double> got(3 * n, 7.0), got_u(pos.size());
@@ -253,8 +267,8 @@ TEST(ImmersedBoundary, SpreadAndInterpolateEqualTheNodeListSums) {
         du = std::max(du, std::abs(got_u[i] - want_u[i]));
       EXPECT_LT(df, 1e-14) << static_cast<int>(k) << "-point, " << threads << " threads";
       EXPECT_LT(du, 1e-14) << static_cast<int>(k) << "-point, " << threads << " threads";
-      // After a spread at the same positions, interpolation reads the kept footprints (separable
-      // and across the x face): the same bits as computing them afresh.
+      // After a spread at the same positions, interpolation reads the kept footprints (separable,
+      // across the x face, and the stencils near solids): the same bits as computing them afresh.
       const ImmersedBoundary fresh(L, k);
       std::vector<double> fresh_u(pos.size());
       fresh.interpolate(pos, {vel.data(), vel.data() + n, vel.data() + 2 * n}, fresh_u);
