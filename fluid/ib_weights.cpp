@@ -121,7 +121,8 @@ int ImmersedBoundary::z_layers(double Z, double* wz, std::size_t* layer) const {
 }
 
 template <int W>
-int ImmersedBoundary::fit_z_layers(int k0, double* wz, std::size_t* layer) const {
+[[gnu::always_inline]] inline int ImmersedBoundary::fit_z_layers(int k0, double* wz,
+                                                                 std::size_t* layer) const {
   const Domain& d = lattice_.domain();
   if (d.walls_z && (k0 < 0 || k0 + W > d.nz)) {
     // Wall layers leave the support (stencil() drops them): still separable, with those z
@@ -206,7 +207,8 @@ bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
 }
 
 template <int W>
-bool ImmersedBoundary::place_footprint(int i0, int j0, int k0, IbFootprint<W>& fp) const {
+[[gnu::always_inline]] inline bool ImmersedBoundary::place_footprint(int i0, int j0, int k0,
+                                                                     IbFootprint<W>& fp) const {
   const Domain& d = lattice_.domain();
   if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
   fit_z_layers<W>(k0, fp.wz, fp.layer);
@@ -229,6 +231,12 @@ bool ImmersedBoundary::place_footprint(int i0, int j0, int k0, IbFootprint<W>& f
 
 bool ImmersedBoundary::batched_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
                                          IbFootprint<4>& fp) const {
+  return lane_footprint(axes, lane, p, fp);
+}
+
+[[gnu::always_inline]] inline bool ImmersedBoundary::lane_footprint(const Peskin4AxisBatch& axes,
+                                                                    int lane, const double* p,
+                                                                    IbFootprint<4>& fp) const {
   const Domain& d = lattice_.domain();
   if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
   if (d.ny < 4 || d.nz < 4) return false;
@@ -240,6 +248,13 @@ bool ImmersedBoundary::batched_footprint(const Peskin4AxisBatch& axes, int lane,
   return place_footprint<4>(static_cast<int>(axes.first[0][lane]),
                             static_cast<int>(axes.first[1][lane]),
                             static_cast<int>(axes.first[2][lane]), fp);
+}
+
+void ImmersedBoundary::batched_footprints(const Peskin4AxisBatch& axes, int count,
+                                          const double* positions, const std::uint32_t* order,
+                                          IbFootprint<4>* fp, bool* separable) const {
+  for (int lane = 0; lane < count; ++lane)
+    separable[lane] = lane_footprint(axes, lane, &positions[3 * order[lane]], fp[lane]);
 }
 
 template bool ImmersedBoundary::footprint<2>(const double*, IbFootprint<2>&) const;

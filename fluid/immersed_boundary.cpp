@@ -141,6 +141,34 @@ void ImmersedBoundary::group_markers(int threads, int width) const {
   for (const std::uint32_t m : by_column_) order_[count[group_of_[m]]++] = m;
 }
 
+// A marker without a separable footprint: across the shifted x face (split), else near a solid
+// (stencil). Kept for the interpolation as its `q`-th marker (W = 4). False if no fluid is near.
+template <int W>
+bool ImmersedBoundary::spread_unseparable(std::uint32_t q, int thread, const double* p,
+                                          const double* force, double* const out[3]) const {
+  constexpr bool keep = W == 4;
+  IbSplitFootprint<W> sp;
+  if (split_footprint<W>(p, sp)) {
+    if constexpr (keep) {
+      spread_kind_[q] = kKeptSplit;
+      spread_split_[q] = sp;
+    }
+    spread_footprint(sp, force, out);
+    return true;
+  }
+  IbStencil s;
+  if (!std::isfinite(p[0]) || !stencil(p, s)) return false;
+  const double f[3] = {force[0], force[1], force[2]};
+  double* const o[3] = {out[0], out[1], out[2]};  // locals: no reload after each store
+  for (int k = 0; k < s.count; ++k)
+    for (int a = 0; a < 3; ++a) o[a][s.node[k]] += s.weight[k] * f[a];
+  if constexpr (keep) {
+    keep_stencil(s, thread, spread_stencil_[q]);
+    spread_kind_[q] = kKeptStencil;
+  }
+  return true;
+}
+
 template <int W>
 void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<const double> forces,
                                 const std::array<double*, 3>& field) const {
@@ -150,8 +178,10 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
   locate_markers(positions, W);
   sort_by_column();
   group_markers(slabs, W);
-  constexpr bool keep = W == 4;  // the default kernel keeps its footprints for interpolation
-  const bool batched = W == 4 && kernel_ == IbKernel::kPeskin4;  // its axes SIMD across markers
+  // The default kernel (Peskin 4, the only one of width 4) keeps its footprints for
+  // interpolation, and computes their axis weights SIMD across markers.
+  constexpr bool keep = W == 4;
+  assert(W != 4 || kernel_ == IbKernel::kPeskin4);
   const auto nx = static_cast<double>(lattice_.nx());
   const double shift = lattice_.domain().shift;
   if (keep) {
@@ -176,9 +206,8 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
       kept_weights_[static_cast<std::size_t>(t)].clear();
     }
     IbFootprint<W> fp;
-    IbSplitFootprint<W> sp;
-    IbStencil s;
     Peskin4AxisBatch axes;
+    bool batch_separable[kIbBatch] = {};
     // Phase 0: the markers inside each slab; phase 1: those straddling each slab's lower edge.
     for (int phase = 0; phase < 2; ++phase) {
 #pragma omp barrier
@@ -188,36 +217,24 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
         for (std::uint32_t q = begin; q < end; ++q) {
           const std::size_t m = order_[q];
           bool separable = false;
-          if (batched) {
+          if constexpr (W == 4) {
+            // A batch's footprints straight into the kept ones (the kernel is Peskin 4).
             const int lane = static_cast<int>((q - begin) % kIbBatch);
             if (lane == 0) {
               const int count = static_cast<int>(std::min<std::uint32_t>(kIbBatch, end - q));
               peskin4_axis_batch(positions.data(), &order_[q], count, nx, shift, axes);
+              batched_footprints(axes, count, positions.data(), &order_[q], &spread_footprints_[q],
+                                 batch_separable);
             }
-            if constexpr (W == 4) separable = batched_footprint(axes, lane, &positions[3 * m], fp);
+            separable = batch_separable[lane];
+            spread_kind_[q] = separable ? kKeptSeparable : kKeptNone;
+            if (separable) spread_footprint(spread_footprints_[q], &forces[3 * m], out);
           } else {
             separable = footprint<W>(&positions[3 * m], fp);
+            if (separable) spread_footprint(fp, &forces[3 * m], out);
           }
-          if constexpr (keep) spread_kind_[q] = separable ? kKeptSeparable : kKeptNone;
-          if (separable) {
-            if constexpr (keep) spread_footprints_[q] = fp;
-            spread_footprint(fp, &forces[3 * m], out);
-          } else if (split_footprint<W>(&positions[3 * m], sp)) {
-            if constexpr (keep) {
-              spread_kind_[q] = kKeptSplit;
-              spread_split_[q] = sp;
-            }
-            spread_footprint(sp, &forces[3 * m], out);
-          } else if (std::isfinite(positions[3 * m]) && stencil(&positions[3 * m], s)) {
-            const double f[3] = {forces[3 * m], forces[3 * m + 1], forces[3 * m + 2]};
-            double* const o[3] = {out[0], out[1], out[2]};  // locals: no reload after each store
-            for (int k = 0; k < s.count; ++k)
-              for (int a = 0; a < 3; ++a) o[a][s.node[k]] += s.weight[k] * f[a];
-            if constexpr (keep) keep_stencil(s, t, spread_stencil_[q]);
-            if constexpr (keep) spread_kind_[q] = kKeptStencil;
-          } else {
+          if (!separable && !spread_unseparable<W>(q, t, &positions[3 * m], &forces[3 * m], out))
             bad = std::min(bad, m);
-          }
         }
       }
     }

@@ -62,6 +62,10 @@ class ImmersedBoundary {
   /// (fluid/ib_axis_batch.hpp): the same weights and nodes, bit for bit.
   bool batched_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
                          IbFootprint<4>& fp) const;
+  /// batched_footprint() of every lane of a batch of the markers order[0..count) of `positions`,
+  /// into fp[lane] and separable[lane].
+  void batched_footprints(const Peskin4AxisBatch& axes, int count, const double* positions,
+                          const std::uint32_t* order, IbFootprint<4>* fp, bool* separable) const;
 
  private:
   /// z weights and layer offsets of a support (wall layers zero-weighted, see footprint());
@@ -75,6 +79,12 @@ class ImmersedBoundary {
   /// supports' first nodes (i0, j0, k0; x folded into the box) are known.
   template <int W>
   bool place_footprint(int i0, int j0, int k0, IbFootprint<W>& fp) const;
+  /// batched_footprint(), inlined into batched_footprints().
+  bool lane_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
+                      IbFootprint<4>& fp) const;
+  template <int W>
+  bool spread_unseparable(std::uint32_t q, int thread, const double* p, const double* force,
+                          double* const out[3]) const;
   template <int W>
   void spread_w(std::span<const double> positions, std::span<const double> forces,
                 const std::array<double*, 3>& field) const;
