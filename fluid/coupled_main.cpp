@@ -200,8 +200,10 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
   }
   std::unique_ptr<FluidRunFile> out;
   if (!opt.output.empty()) out = std::make_unique<FluidRunFile>(scene, opt.output, timeseries);
+  std::int64_t checkpointed = -1;  // once per step: a second write would push out .prev
   auto checkpoint = [&] {
-    if (opt.checkpoint.empty()) return;
+    if (opt.checkpoint.empty() || solver.steps() == checkpointed) return;
+    checkpointed = solver.steps();
     write_checkpoint(opt.checkpoint, scene, solver, out ? out->timeseries() : timeseries);
     spdlog::info("checkpoint at step {}: {}", solver.steps(), opt.checkpoint);
   };
@@ -217,7 +219,10 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     PhaseTimes t;
     signal(SIGINT, on_sigint);
     signal(SIGBUS, on_sigbus);
-    while (!g_stop && side.receive()) {
+    // Interrupted, the run ends at the next step a resume repeats exactly (see
+    // CouplingParams::exact_resume_every); the membranes end there too.
+    const std::int64_t exact_every = scene.coupling.exact_resume_every();
+    while ((!g_stop || solver.steps() % exact_every != 0) && side.receive()) {
       t.lap(t.wait);
       const auto x = side.positions();
       ib.spread(x, side.forces(), solver.force_field());

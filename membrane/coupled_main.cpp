@@ -104,7 +104,7 @@ class CoupledRun {
   void sample_mesh(std::int64_t step) {
     if (mesh_) mesh_->append(step, cells_.positions() * dx_um_);
   }
-  void checkpoint(std::int64_t step) const;
+  void checkpoint(std::int64_t step);
   void apply_halo();
   void progress(std::int64_t step) const;
   void summary() const;
@@ -124,6 +124,7 @@ class CoupledRun {
   RunFacts facts_;
   RunCheckpoint expected_;
   std::int64_t offset_ = 0;
+  std::int64_t checkpointed_ = -1;  ///< step of the last checkpoint written
   std::vector<double> rows_;  ///< samples: step, then per cell centroid [um] and volume [um^3]
   std::size_t width_;
   std::optional<ColumnTracker> tracker_;
@@ -226,8 +227,10 @@ void CoupledRun::resume() {
   done_at_start_ = slowest_columns();
 }
 
-void CoupledRun::checkpoint(std::int64_t step) const {
-  if (a_.checkpoint.empty()) return;
+void CoupledRun::checkpoint(std::int64_t step) {
+  // Once per step: a second write would push the older checkpoint out of .prev.
+  if (a_.checkpoint.empty() || step == checkpointed_) return;
+  checkpointed_ = step;
   RunCheckpoint c = expected_;
   c.step = step;
   c.positions = cells_.positions();
@@ -322,7 +325,13 @@ std::string CoupledRun::step_loop(std::int64_t& s) {
   const std::int64_t s0 = s;
   const std::int64_t force_every = scene_.coupling.force_every;
   const std::int64_t mesh_every = scene_.output.mesh_every;
-  for (; s < a_.steps && !g_stop; ++s) {
+  // A run that is to end (interrupted, or a stop rule met) ends at the next step a resume from its
+  // checkpoint repeats exactly; the fluid does the same on an interrupt (fluid/coupled_main.cpp).
+  const std::int64_t exact_every = scene_.coupling.exact_resume_every();
+  std::string stop;
+  for (; s < a_.steps; ++s) {
+    if (stop.empty() && g_stop) stop = "interrupted";
+    if (!stop.empty() && s % exact_every == 0) return stop;
     const auto t0 = Clock::now();
     // Time-scale separation ([coupling] force_every): between updates the last forces are held.
     if (s % force_every == 0 || s == s0) {
@@ -342,19 +351,15 @@ std::string CoupledRun::step_loop(std::int64_t& s) {
     if ((s + 1) % a_.sample_every == 0) {
       sample(s + 1);
       guard_->check(cells_, s + 1, first_);
-      if (a_.pillars > 0 && tracker_->min_columns() >= a_.pillars) {
-        ++s;
-        return fmt::format("every cell passed {} pillars", a_.pillars);
-      }
-      if (a_.stop_when_mode_certain && tracker_->all_modes_certain()) {
-        ++s;
-        return "every cell's mode is certain";
-      }
+      if (stop.empty() && a_.pillars > 0 && tracker_->min_columns() >= a_.pillars)
+        stop = fmt::format("every cell passed {} pillars", a_.pillars);
+      if (stop.empty() && a_.stop_when_mode_certain && tracker_->all_modes_certain())
+        stop = "every cell's mode is certain";
     }
     if (a_.checkpoint_every > 0 && (s + 1) % a_.checkpoint_every == 0) checkpoint(s + 1);
     if ((s + 1) % scene_.run.log_every == 0) progress(s + 1);
   }
-  return g_stop ? "interrupted" : "step limit reached";
+  return stop.empty() ? "step limit reached" : stop;
 }
 
 int CoupledRun::run() {
@@ -377,8 +382,7 @@ int CoupledRun::run() {
         (mesh_->samples().empty() || mesh_->samples().back().step < offset_))
       sample_mesh(offset_);
     std::int64_t s = offset_;
-    std::string reason = step_loop(s);
-    if (g_stop) reason = "interrupted";
+    const std::string reason = step_loop(s);
     side_.finalize();
     finish();
     checkpoint(s);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -76,6 +77,13 @@ struct CouplingParams {
   /// same update steps; 1 = every step (exact coupling).
   int force_every = 1;
   int viscosity_field_every = 1;
+  /// The steps at which both held quantities are updated: a run stopped and checkpointed at a
+  /// multiple of this resumes exactly as the straight run goes on (elsewhere the resumed run would
+  /// recompute what the straight one holds), so interrupted runs end at the next multiple.
+  std::int64_t exact_resume_every() const {
+    return std::lcm(static_cast<std::int64_t>(force_every),
+                    static_cast<std::int64_t>(viscosity_field_every));
+  }
 };
 
 struct Scene {

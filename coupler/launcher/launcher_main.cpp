@@ -334,7 +334,10 @@ int supervise(std::vector<dld::coupler::Child>& children, const dld::Scene& scen
     }
     if (!any_running) return failed;
     if (g_interrupted && !interrupted_sent) {
-      fmt::print(stderr, "dld-run: interrupted; asking the fluid to end the run after this step\n");
+      fmt::print(stderr,
+                 "dld-run: interrupted; asking the fluid to end the run at the next step a resume "
+                 "repeats exactly (a multiple of {})\n",
+                 scene.coupling.exact_resume_every());
       dld::coupler::signal_child(children[0], SIGINT);
       interrupted_sent = true;
     }
@@ -417,6 +420,12 @@ static int run_main(int argc, char** argv) {
     const int cells = cell_count(scene, o);
     const auto from = resume_point(o, paths.stem, cells, scene.coupling.membrane_processes);
     if (o.resume) fmt::print("dld-run: resuming at step {}\n", from.step);
+    if (o.resume && from.step % scene.coupling.exact_resume_every() != 0)
+      fmt::print(stderr,
+                 "dld-run: warning: step {} is not a multiple of {} ([coupling] force_every, "
+                 "viscosity_field_every): the held forces and viscosity field are recomputed "
+                 "there, so the run differs slightly from one that went straight through\n",
+                 from.step, scene.coupling.exact_resume_every());
     auto commands = program_commands(o, scene, paths, place, cells, from);
     add_curve_keys(commands, paths);
     for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
