@@ -254,7 +254,8 @@ void ImmersedBoundary::batched_footprints(const Peskin4AxisBatch& axes, int coun
                                           const double* positions, const std::uint32_t* order,
                                           IbFootprint<4>* fp, bool* separable) const {
   for (int lane = 0; lane < count; ++lane)
-    separable[lane] = lane_footprint(axes, lane, &positions[3 * order[lane]], fp[lane]);
+    separable[lane] =
+        lane_footprint(axes, lane, &positions[3 * static_cast<std::size_t>(order[lane])], fp[lane]);
 }
 
 template bool ImmersedBoundary::footprint<2>(const double*, IbFootprint<2>&) const;
