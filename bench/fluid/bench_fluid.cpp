@@ -154,11 +154,8 @@ BENCHMARK(BM_IbInterpolate)
 
 // The immersed boundary of one coupled step: spread at new positions, then interpolate at the same
 // positions (the markers move by a tiny amount between iterations, as they do between steps).
-void BM_IbCoupledStep(benchmark::State& state) {
-  omp_set_num_threads(static_cast<int>(state.range(0)));
-  FluidSolver s(dld_config());
-  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
-  auto x = marker_cells(s.lattice(), static_cast<int>(state.range(1)));
+void time_coupled_ib(benchmark::State& state, FluidSolver& s,
+                     const dld::fluid::ImmersedBoundary& ib, std::vector<double>& x) {
   const std::vector<double> f(x.size(), 1e-6);
   std::vector<double> u(x.size());
   s.force_field();
@@ -170,6 +167,14 @@ void BM_IbCoupledStep(benchmark::State& state) {
     ib.spread(x, f, s.force_field());
     ib.interpolate(x, s.velocity_field(), u);
   }
+}
+
+void BM_IbCoupledStep(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
+  auto x = marker_cells(s.lattice(), static_cast<int>(state.range(1)));
+  time_coupled_ib(state, s, ib, x);
   const std::size_t markers = x.size() / 3;
   state.counters["markers"] = static_cast<double>(markers);
 }
@@ -189,17 +194,7 @@ void BM_IbCoupledStepOfRun(benchmark::State& state, const std::string& scene_fil
   FluidSolver s(dld::fluid::fluid_config(dld::load_scene(scene_file)));
   const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
   auto x = dld::H5File(positions_file, dld::H5File::Mode::kRead).read("membrane/positions");
-  const std::vector<double> f(x.size(), 1e-6);
-  std::vector<double> u(x.size());
-  s.force_field();
-  s.step();
-  double dx = 1e-4;
-  for (auto _ : state) {
-    for (double& v : x) v += dx;
-    dx = -dx;
-    ib.spread(x, f, s.force_field());
-    ib.interpolate(x, s.velocity_field(), u);
-  }
+  time_coupled_ib(state, s, ib, x);
   std::size_t separable = 0, split = 0, markers = x.size() / 3;
   for (std::size_t m = 0; m < markers; ++m) {
     dld::fluid::IbFootprint<4> fp;
