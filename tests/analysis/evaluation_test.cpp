@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "analysis/outlets.hpp"
 #include "analysis/run_analysis.hpp"
 #include "synthetic.hpp"
@@ -96,6 +98,29 @@ TEST(Evaluation, OneBumpEveryKPillarsOfAZigzagCell) {
       EXPECT_NEAR(a.cells[0].p_f.value(), sign * kD / (k * kLambda), 1e-9) << "k = " << k;
     }
   }
+}
+
+TEST(Evaluation, AStudyOfTwentyPillarsEvaluatesAndBinsAtTwenty) {
+  // The headline's N = 20 (issue 16): two cells displaced at every column for 20 columns, then
+  // moving horizontally for 40 more. At N = 20 neither fails and both end in O4's top lambda with
+  // the bins of N = 20 ([y_in - 2 lambda, y_in + 20 d + lambda]); at N = 60 both fail with p_fD =
+  // (40/60) d / lambda and end far below the N = 60 bins' top.
+  const auto f = [](double c) { return kD * std::min(steps(c), 20.0) + wiggle(c); };
+  const std::vector<CellTrack> cells{track(0, 3.0, 1.0, 60.5, f, 6000),
+                                     track(1, 3.0, 11.0, 60.5, f, 6000)};
+  const RunAnalysis at20 = analyze_run(run_of(cells), 20, kDisplacement);
+  EXPECT_EQ(at20.outlet_pillars, 20);
+  EXPECT_NEAR(at20.bins.edges[4] - at20.bins.edges[0], 20 * kD + 3 * kLambda, 1e-9);
+  EXPECT_NEAR(at20.p_f.mean, 0.0, kInterpolation);
+  EXPECT_EQ(at20.outlets.count[4], 2);
+  for (const auto& c : at20.cells) {
+    EXPECT_EQ(c.pillars, 20);
+    EXPECT_GE(c.y_end, at20.bins.edges[4] - kLambda);
+  }
+  const RunAnalysis at60 = analyze_run(run_of(cells), 60, kDisplacement);
+  EXPECT_NEAR(at60.bins.edges[4] - at60.bins.edges[0], 60 * kD + 3 * kLambda, 1e-9);
+  EXPECT_NEAR(at60.p_f.mean, (40.0 / 60.0) * kD / kLambda, kInterpolation);
+  EXPECT_LT(at60.cells[0].y_end, at60.bins.edges[4] - kLambda);
 }
 
 TEST(Evaluation, HorizontalMotionIsTheDisplacementCeiling) {
