@@ -188,8 +188,21 @@ bool FluidSide::receive_steps() {
         "together",
         kSelf, peers_[a].label, step_, peers_[b].label));
   }
+  agree_on_held_steps();
   state_ = State::have_step;
   return true;
+}
+
+void FluidSide::agree_on_held_steps() {
+  held_steps_ = peers_.front().held_steps;
+  for (const Peer& peer : peers_) {
+    if (peer.held_steps != held_steps_) {
+      throw CouplerError(fmt::format(
+          "{}: {} holds its forces for {} step(s) from step {} and {} for {}: membrane programs "
+          "must hold the same steps",
+          kSelf, peers_.front().label, held_steps_, step_, peer.label, peer.held_steps));
+    }
+  }
 }
 
 void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
@@ -210,9 +223,16 @@ void FluidSide::accept_frame(std::size_t k, zmq::message_t received) {
       break;
   }
   const bool shared = peer.segment.mapped();
-  require_data_frame(header, shared ? FrameType::step_shared : FrameType::step, step_, link);
-  const std::byte* data =
-      read_nodes(frame, header, peer.nodes, shared ? kSharedFrameArrays : kStepFrameArrays, link);
+  const bool held =
+      header.type == FrameType::held_steps || header.type == FrameType::held_steps_shared;
+  const FrameType expected = held ? (shared ? FrameType::held_steps_shared : FrameType::held_steps)
+                                  : (shared ? FrameType::step_shared : FrameType::step);
+  require_data_frame(header, expected, step_, link);
+  const int arrays = shared ? kSharedFrameArrays : kStepFrameArrays;
+  const HeldSteps h = held ? read_held_steps(frame, header, peer.nodes, arrays, link)
+                           : HeldSteps{1, read_nodes(frame, header, peer.nodes, arrays, link)};
+  peer.held_steps = h.steps;
+  const std::byte* data = h.data;
   if (shared) {
     peer.segment.require_size(kSelf, peer.label);
     data = peer.segment.data();
@@ -244,31 +264,41 @@ std::span<const double> FluidSide::forces() const {
   return forces_view_;
 }
 
+void FluidSide::send_nodes(Peer& peer, std::span<const double> values, bool positions) {
+  const auto mine = values.subspan(3 * peer.first_node, 3 * peer.nodes);
+  zmq::message_t frame;
+  if (peer.segment.mapped()) {
+    peer.segment.require_size(kSelf, peer.label);
+    double* to = peer.segment.array(positions ? SegmentArray::kPositions : SegmentArray::kVelocities,
+                                    peer.nodes);
+    if (static_cast<const void*>(to) != static_cast<const void*>(mine.data())) {
+      std::memcpy(to, mine.data(), mine.size_bytes());  // not written through the buffer
+    }
+    frame = encode_count(positions ? FrameType::positions_shared : FrameType::velocities_shared,
+                         step_, peer.nodes);
+  } else {
+    frame = positions ? encode_positions(step_, mine, &pool_) : encode_velocities(step_, mine, &pool_);
+  }
+  if (!peer.channel->send(frame)) {
+    throw CouplerError(fmt::format("{}: {} did not take the {} of step {} within {} s", kSelf,
+                                   peer.label, positions ? "positions" : "velocities", step_,
+                                   seconds(config_.options.timeout)));
+  }
+}
+
 void FluidSide::send_velocities(std::span<const double> velocities) {
   check_call(kSelf, "send_velocities()", state_, {State::have_step});
   if (velocities.size() != positions_.size()) {
     throw std::invalid_argument(fmt::format("fluid: send_velocities() given {} values for {} nodes",
                                             velocities.size(), node_count()));
   }
+  if (held_steps_ != 1) {
+    throw std::logic_error(fmt::format(
+        "fluid: send_velocities() after frames of {} held steps (send_positions() completes them)",
+        held_steps_));
+  }
   guarded([&] {
-    for (Peer& peer : peers_) {
-      const auto mine = velocities.subspan(3 * peer.first_node, 3 * peer.nodes);
-      zmq::message_t frame;
-      if (peer.segment.mapped()) {
-        peer.segment.require_size(kSelf, peer.label);
-        double* to = peer.segment.array(SegmentArray::kVelocities, peer.nodes);
-        if (static_cast<const void*>(to) != static_cast<const void*>(mine.data())) {
-          std::memcpy(to, mine.data(), mine.size_bytes());  // not written through the buffer
-        }
-        frame = encode_count(FrameType::velocities_shared, step_, peer.nodes);
-      } else {
-        frame = encode_velocities(step_, mine, &pool_);
-      }
-      if (!peer.channel->send(frame)) {
-        throw CouplerError(fmt::format("{}: {} did not take the velocities of step {} within {} s",
-                                       kSelf, peer.label, step_, seconds(config_.options.timeout)));
-      }
-    }
+    for (Peer& peer : peers_) send_nodes(peer, velocities, false);
     if (halo_ > 0) {
       // Where the nodes are next step: the membranes move them by X += U dt with dt = 1, and
       // x + u is that sum bit for bit.
@@ -278,6 +308,23 @@ void FluidSide::send_velocities(std::span<const double> velocities) {
       send_halos(next_positions_, step_ + 1);
     }
     ++step_;
+    state_ = State::running;
+  });
+}
+
+void FluidSide::send_positions(std::span<const double> positions) {
+  check_call(kSelf, "send_positions()", state_, {State::have_step});
+  if (positions.size() != positions_.size()) {
+    throw std::invalid_argument(fmt::format("fluid: send_positions() given {} values for {} nodes",
+                                            positions.size(), node_count()));
+  }
+  if (held_steps_ == 1) {
+    throw std::logic_error("fluid: send_positions() after a one-step frame (send_velocities())");
+  }
+  guarded([&] {
+    for (Peer& peer : peers_) send_nodes(peer, positions, true);
+    if (halo_ > 0) send_halos(positions, step_ + held_steps_);
+    step_ += held_steps_;
     state_ = State::running;
   });
 }

@@ -9,6 +9,9 @@
 //     fluid.send_velocities(u);          // same nodes, same order; step += 1
 //   }                                    // receive() == false: the membranes ended the run
 //   fluid.finalize();                    // tells the membranes to stop if they have not
+// Held steps (protocol version 5): when held_steps() = n > 1 the membranes hold their forces for
+// steps step() to step() + n - 1; the fluid runs them, moving its copy of the nodes by X += U dt
+// (dt = 1) after each, and completes them with send_positions(X) instead of send_velocities().
 // Peer k's nodes occupy [node_offset(k), node_offset(k) + nodes) in the concatenated arrays.
 // Coupling failures throw CouplerError after telling every peer (error frame), so all stop.
 // One side object belongs to one thread at a time (its ZeroMQ sockets do).
@@ -70,8 +73,12 @@ class FluidSide {
   /// array.
   std::span<const double> positions() const;
   std::span<const double> forces() const;
+  /// Steps the received frames cover (the same from every peer): 1, or n > 1 held steps.
+  std::uint64_t held_steps() const { return held_steps_; }
   /// Velocities for exactly the received nodes (3 x node_count()); completes the step.
   void send_velocities(std::span<const double> velocities);
+  /// The nodes' positions after the held_steps() steps (3 x node_count()); completes them.
+  void send_positions(std::span<const double> positions);
   /// Where to put the velocities to save a copy: with one peer on a shared-memory link this is
   /// the segment itself, and send_velocities(velocities_buffer()) copies nothing. 3 x
   /// node_count() doubles, the same memory every step, written between receive() and
@@ -113,6 +120,7 @@ class FluidSide {
     std::size_t first_node = 0;
     std::size_t nodes = 0;
     bool shut_down = false;
+    std::uint64_t held_steps = 1;  // steps its last frame covers
     zmq::message_t last_frame;  // kept so that positions()/forces() may point into it
     SharedSegment segment;      // ipc data path offered by the peer and accepted
   };
@@ -127,6 +135,10 @@ class FluidSide {
   void send_halos(std::span<const double> positions, std::uint64_t step);
   bool receive_steps();
   void accept_frame(std::size_t k, zmq::message_t frame);
+  /// Every peer asked for the same number of held steps: sets held_steps_, else throws.
+  void agree_on_held_steps();
+  /// Sends peer k its velocities (n = 1) or positions frame from `values`.
+  void send_nodes(Peer& peer, std::span<const double> values, bool positions);
   /// Indices of peers for which a frame is waiting, within the deadline; empty on timeout.
   std::vector<std::size_t> poll(const std::vector<std::size_t>& pending,
                                 std::chrono::steady_clock::time_point deadline);
@@ -141,6 +153,7 @@ class FluidSide {
   std::vector<Peer> peers_;
   State state_ = State::created;
   std::uint64_t step_ = 0;
+  std::uint64_t held_steps_ = 1;  // steps the received frames cover
   std::vector<std::uint32_t> cell_nodes_, cell_faces_, faces_;
   std::vector<double> positions_;  // concatenation target when the frames cannot be viewed
   std::vector<double> forces_;

@@ -53,6 +53,14 @@ std::string_view to_string(FrameType type) {
       return "start_positions";
     case FrameType::halo:
       return "halo";
+    case FrameType::held_steps:
+      return "held_steps";
+    case FrameType::held_steps_shared:
+      return "held_steps_shared";
+    case FrameType::positions:
+      return "positions";
+    case FrameType::positions_shared:
+      return "positions_shared";
   }
   return "unknown";
 }
@@ -108,6 +116,34 @@ zmq::message_t encode_array(FrameType type, std::uint64_t step, std::span<const 
 zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
                                  FramePool* pool) {
   return encode_array(FrameType::velocities, step, velocities, pool);
+}
+
+zmq::message_t encode_positions(std::uint64_t step, std::span<const double> positions,
+                                FramePool* pool) {
+  return encode_array(FrameType::positions, step, positions, pool);
+}
+
+zmq::message_t encode_held_steps(std::uint64_t step, std::uint64_t n,
+                                 std::span<const double> positions, std::span<const double> forces,
+                                 FramePool* pool) {
+  assert(positions.size() == forces.size() && positions.size() % 3 == 0);
+  const std::size_t nodes = positions.size() / 3;
+  const std::size_t bytes = held_steps_payload_bytes(nodes);
+  zmq::message_t frame = pool ? pool->make(FrameType::held_steps, step, bytes)
+                              : make_frame(FrameType::held_steps, step, bytes);
+  std::byte* at = payload(frame);
+  put(at, static_cast<std::uint64_t>(nodes));
+  put(at + 8, n);
+  std::memcpy(at + 16, positions.data(), positions.size_bytes());
+  std::memcpy(at + 16 + positions.size_bytes(), forces.data(), forces.size_bytes());
+  return frame;
+}
+
+zmq::message_t encode_held_steps_shared(std::uint64_t step, std::size_t nodes, std::uint64_t n) {
+  zmq::message_t frame = make_frame(FrameType::held_steps_shared, step, 16);
+  put(payload(frame), static_cast<std::uint64_t>(nodes));
+  put(payload(frame) + 8, n);
+  return frame;
 }
 
 zmq::message_t encode_start_positions(std::uint64_t step, std::span<const double> positions) {
@@ -203,6 +239,33 @@ const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& head
                                 to_string(header.type), header.payload_bytes));
   }
   return at + 8;
+}
+
+HeldSteps read_held_steps(const zmq::message_t& frame, const FrameHeader& header,
+                          std::size_t nodes, int arrays, const Link& link) {
+  const std::byte* at = payload(frame);
+  if (header.payload_bytes < 16) {
+    throw_malformed(link, header.step, "node_count",
+                    fmt::format("{} frame too short to hold the node and step counts",
+                                to_string(header.type)));
+  }
+  const auto count = get<std::uint64_t>(at);
+  if (count != nodes) {
+    throw_malformed(link, header.step, "node_count",
+                    fmt::format("expected {} nodes, got {}", nodes, count));
+  }
+  const auto n = get<std::uint64_t>(at + 8);
+  if (n < 1 || n > kMostHeldSteps) {
+    throw_malformed(link, header.step, "held_steps",
+                    fmt::format("expected 1 to {} steps, got {}", kMostHeldSteps, n));
+  }
+  const std::size_t expected = 16 + static_cast<std::size_t>(arrays) * 3 * 8 * nodes;
+  if (header.payload_bytes != expected) {
+    throw_malformed(link, header.step, "payload_bytes",
+                    fmt::format("{} nodes need {} bytes in a {} frame, got {}", nodes, expected,
+                                to_string(header.type), header.payload_bytes));
+  }
+  return {n, at + 16};
 }
 
 void require_finite(const std::byte* data, std::size_t nodes, std::string_view field,

@@ -19,8 +19,9 @@ static_assert(std::endian::native == std::endian::little,
 
 inline constexpr std::uint32_t kMagic = 0x43444C44;  ///< bytes 'D' 'L' 'D' 'C'
 /// 2: cell surfaces in the handshake; 3: named values to agree on instead of fixed fields;
-/// 4: the contact halo (handshake field, start positions and halo frames)
-inline constexpr std::uint16_t kProtocolVersion = 4;
+/// 4: the contact halo (handshake field, start positions and halo frames); 5: held steps (the
+/// fluid advances the nodes itself for several steps of held forces: steps and positions frames)
+inline constexpr std::uint16_t kProtocolVersion = 5;
 inline constexpr std::size_t kHeaderBytes = 24;
 
 enum class FrameType : std::uint16_t {
@@ -34,8 +35,12 @@ enum class FrameType : std::uint16_t {
   velocities_shared = 8,  ///< as velocities, the array in the shared segment; payload = count
   start_positions = 9,    ///< membrane -> fluid, once before step 1 (halo on): count, N x 3
   halo = 10,              ///< fluid -> membrane (halo on): other peers' cells near its own
+  held_steps = 11,        ///< membrane -> fluid: node count, step count n, positions, forces
+  held_steps_shared = 12,  ///< as held_steps, the arrays in the shared segment: count, n
+  positions = 13,         ///< fluid -> membrane: node count, positions after the n held steps
+  positions_shared = 14,  ///< as positions, the array in the shared segment's positions region
 };
-inline constexpr std::uint16_t kLastFrameType = 10;
+inline constexpr std::uint16_t kLastFrameType = 14;
 std::string_view to_string(FrameType type);
 
 struct FrameHeader {
@@ -58,6 +63,11 @@ constexpr std::size_t step_payload_bytes(std::size_t nodes) {
 constexpr std::size_t velocities_payload_bytes(std::size_t nodes) {
   return 8 + std::size_t{24} * nodes;  // count, velocities
 }
+constexpr std::size_t held_steps_payload_bytes(std::size_t nodes) {
+  return 16 + std::size_t{48} * nodes;  // count, step count, positions, forces
+}
+/// The most steps one held_steps frame may ask for (a sanity bound on a peer's value).
+inline constexpr std::uint64_t kMostHeldSteps = 1000000;
 
 /// Writes the 24-byte header at `at`.
 void write_header(std::byte* at, FrameType type, std::uint64_t step, std::size_t payload_bytes);
@@ -72,6 +82,16 @@ zmq::message_t encode_step(std::uint64_t step, std::span<const double> positions
                            std::span<const double> forces, FramePool* pool = nullptr);
 zmq::message_t encode_velocities(std::uint64_t step, std::span<const double> velocities,
                                  FramePool* pool = nullptr);
+/// n steps of held forces (the fluid moves the nodes by X += U dt itself and answers with the
+/// positions after step + n): as encode_step with the step count after the node count.
+zmq::message_t encode_held_steps(std::uint64_t step, std::uint64_t n,
+                                 std::span<const double> positions, std::span<const double> forces,
+                                 FramePool* pool = nullptr);
+/// The shared-memory form: node count and step count only.
+zmq::message_t encode_held_steps_shared(std::uint64_t step, std::size_t nodes, std::uint64_t n);
+/// The fluid's answer to held_steps: the positions after them (3 N doubles).
+zmq::message_t encode_positions(std::uint64_t step, std::span<const double> positions,
+                                FramePool* pool = nullptr);
 /// The positions a membrane starts from (3 N doubles), sent once before its first step when the
 /// contact halo is on: count, positions, laid out as a velocities frame.
 zmq::message_t encode_start_positions(std::uint64_t step, std::span<const double> positions);
@@ -97,6 +117,15 @@ inline constexpr int kSharedFrameArrays = 0;
 /// (`arrays` = 0 for the shared-memory frames, which carry the count only).
 const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& header,
                             std::size_t nodes, int arrays, const Link& link);
+
+/// A held_steps or held_steps_shared frame's step count n (1 <= n <= kMostHeldSteps) and the
+/// bytes of its arrays (as read_nodes; `arrays` = 2, or 0 for the shared form).
+struct HeldSteps {
+  std::uint64_t steps = 1;
+  const std::byte* data = nullptr;
+};
+HeldSteps read_held_steps(const zmq::message_t& frame, const FrameHeader& header,
+                          std::size_t nodes, int arrays, const Link& link);
 
 /// The text of an error frame, cut at 4 KiB and with line breaks turned into spaces so it stays
 /// one line in the receiver's message.

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -202,6 +203,50 @@ bool MembraneSide::advance(std::span<const double> positions, std::span<const do
 
 std::optional<std::span<const double>> MembraneSide::exchange(std::span<const double> positions,
                                                               std::span<const double> forces) {
+  return exchange_steps(positions, forces, 1);
+}
+
+bool MembraneSide::advance_held(std::span<const double> positions, std::span<const double> forces,
+                                std::uint64_t n, std::span<double> positions_after) {
+  check_call(self_, "advance_held()", state_, {State::running});
+  if (positions_after.size() != 3 * nodes_ || n < 1 || n > kMostHeldSteps) {
+    throw std::invalid_argument(fmt::format(
+        "{}: advance_held() given {} position values for {} nodes and {} steps (1 to {})", self_,
+        positions_after.size(), nodes_, n, kMostHeldSteps));
+  }
+  const auto received = exchange_steps(positions, forces, n);
+  if (!received) return false;
+  if (n == 1) {
+    // X += U dt with dt = 1, as the fluid does in held steps (x + u, bit for bit).
+    for (std::size_t i = 0; i < positions_after.size(); ++i)
+      positions_after[i] = positions[i] + (*received)[i];
+  } else {
+    copy_unless_same(positions_after.data(), received->data(), received->size_bytes());
+  }
+  return true;
+}
+
+void MembraneSide::send_steps(std::span<const double> positions, std::span<const double> forces,
+                              std::uint64_t n) {
+  const std::size_t bytes = 3 * sizeof(double) * nodes_;
+  zmq::message_t frame;
+  if (shared_) {
+    copy_unless_same(segment_.array(SegmentArray::kPositions, nodes_), positions.data(), bytes);
+    copy_unless_same(segment_.array(SegmentArray::kForces, nodes_), forces.data(), bytes);
+    frame = n == 1 ? encode_count(FrameType::step_shared, step_, nodes_)
+                   : encode_held_steps_shared(step_, nodes_, n);
+  } else {
+    frame = n == 1 ? encode_step(step_, positions, forces, &pool_)
+                   : encode_held_steps(step_, n, positions, forces, &pool_);
+  }
+  if (!channel_->send(frame)) {
+    throw CouplerError(fmt::format("{}: the fluid did not take step {} within {} s", self_, step_,
+                                   seconds(config_.options.timeout)));
+  }
+}
+
+std::optional<std::span<const double>> MembraneSide::exchange_steps(
+    std::span<const double> positions, std::span<const double> forces, std::uint64_t n) {
   check_call(self_, "advance()", state_, {State::running});
   if (positions.size() != 3 * nodes_ || forces.size() != 3 * nodes_) {
     throw std::invalid_argument(
@@ -210,28 +255,19 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
                     self_, positions.size(), forces.size(), nodes_));
   }
   return guarded([&]() -> std::optional<std::span<const double>> {
-    const std::size_t bytes = 3 * sizeof(double) * nodes_;
-    zmq::message_t frame;
-    if (shared_) {
-      copy_unless_same(segment_.array(SegmentArray::kPositions, nodes_), positions.data(), bytes);
-      copy_unless_same(segment_.array(SegmentArray::kForces, nodes_), forces.data(), bytes);
-      frame = encode_count(FrameType::step_shared, step_, nodes_);
-    } else {
-      frame = encode_step(step_, positions, forces, &pool_);
-    }
-    if (!channel_->send(frame)) {
-      throw CouplerError(fmt::format("{}: the fluid did not take step {} within {} s", self_, step_,
-                                     seconds(config_.options.timeout)));
-    }
-    auto reply = channel_->receive(config_.options.timeout);
+    send_steps(positions, forces, n);
+    // n held steps take the fluid about n times one step's time.
+    const auto timeout = config_.options.timeout * static_cast<long>(std::min<std::uint64_t>(n, 10));
+    auto reply = channel_->receive(timeout);
     // The fluid may itself be waiting, with the same timeout, for another membrane process that
     // died or hung: half a timeout more lets its error frame, which names that process, arrive
     // before this side blames the fluid.
     if (!reply) reply = channel_->receive(config_.options.timeout / 2);
     if (!reply) {
       throw CouplerError(fmt::format(
-          "{}: no velocities from the fluid within {} s at step {} (fluid dead or hung?)", self_,
-          seconds(config_.options.timeout + config_.options.timeout / 2), step_));
+          "{}: no {} from the fluid within {} s at step {} (fluid dead or hung?)", self_,
+          n == 1 ? "velocities" : "positions",
+          seconds(timeout + config_.options.timeout / 2), step_));
     }
     // Keep the frame first: a small message's bytes live inside the message object.
     reply_ = std::move(*reply);
@@ -248,15 +284,19 @@ std::optional<std::span<const double>> MembraneSide::exchange(std::span<const do
       default:
         break;
     }
-    require_data_frame(header, shared_ ? FrameType::velocities_shared : FrameType::velocities,
-                       step_, link);
+    const bool held = n > 1;
+    const FrameType expected = held ? (shared_ ? FrameType::positions_shared : FrameType::positions)
+                                    : (shared_ ? FrameType::velocities_shared
+                                               : FrameType::velocities);
+    require_data_frame(header, expected, step_, link);
     const std::byte* data = read_nodes(reply_, header, nodes_,
                                        shared_ ? kSharedFrameArrays : kVelocitiesFrameArrays, link);
     if (shared_) {
-      data = reinterpret_cast<const std::byte*>(segment_.array(SegmentArray::kVelocities, nodes_));
+      data = reinterpret_cast<const std::byte*>(segment_.array(
+          held ? SegmentArray::kPositions : SegmentArray::kVelocities, nodes_));
     }
-    require_finite(data, nodes_, "velocities", link, step_);
-    ++step_;
+    require_finite(data, nodes_, held ? "positions" : "velocities", link, step_);
+    step_ += n;
     if (config_.contact_halo > 0) receive_halo();
     if (reinterpret_cast<std::uintptr_t>(data) % alignof(double) == 0) {
       return std::span<const double>(reinterpret_cast<const double*>(data), 3 * nodes_);

@@ -9,6 +9,9 @@
 //     if (!membrane.advance(X, F, U)) break;  // U: velocities at X; false: the fluid ended the run
 //     ... X += U dt ...
 //   }
+// With forces held for n > 1 steps ([coupling] force_every), advance_held(X, F, n, X') lets the
+// fluid run the n steps and move the nodes itself (X += U dt each step); X' are their positions
+// after them (protocol version 5, docs/protocol.md "Held steps").
 //   membrane.finalize();                  // tells the fluid the run ends (if it has not ended it)
 // Coupling failures throw CouplerError after telling the fluid (error frame), which stops too.
 // One side object belongs to one thread at a time (its ZeroMQ sockets do).
@@ -75,6 +78,12 @@ class MembraneSide {
   /// received frame, valid until the next call; nothing if the fluid ended the run.
   [[nodiscard]] std::optional<std::span<const double>> exchange(std::span<const double> positions,
                                                                 std::span<const double> forces);
+  /// Steps step() to step() + n - 1 with the forces held: the fluid spreads `forces` at the
+  /// nodes, advances and moves them by X += U dt (dt = 1) each step, and answers with their
+  /// positions after step() + n - 1, written to `positions_after` (may be `positions`). n = 1 is
+  /// advance() followed by that move. Returns false, writing nothing, if the fluid ended the run.
+  [[nodiscard]] bool advance_held(std::span<const double> positions, std::span<const double> forces,
+                                  std::uint64_t n, std::span<double> positions_after);
   /// Where to put positions and forces to save the first copy too: on a shared-memory link these
   /// are the segment itself, and exchange(positions_buffer(), forces_buffer()) copies nothing;
   /// on other links, staging arrays the frame is encoded from. 3 x node_count() doubles each,
@@ -100,6 +109,13 @@ class MembraneSide {
   auto guarded(Body&& body);
   void check_welcome(const Handshake& welcome);
   void receive_halo();
+  /// Sends n steps' positions and forces (n = 1: a step frame) and receives the fluid's answer:
+  /// velocities (n = 1) or positions after the n steps; nothing if the fluid ended the run.
+  std::optional<std::span<const double>> exchange_steps(std::span<const double> positions,
+                                                        std::span<const double> forces,
+                                                        std::uint64_t n);
+  void send_steps(std::span<const double> positions, std::span<const double> forces,
+                  std::uint64_t n);
 
   MembraneConfig config_;
   std::vector<std::uint32_t> cell_faces_, faces_;
@@ -110,7 +126,7 @@ class MembraneSide {
   std::uint64_t step_ = 0;
   std::size_t nodes_ = 0;
   FramePool pool_;                 // step frames
-  zmq::message_t reply_;           // the last velocities frame, viewed by exchange()
+  zmq::message_t reply_;           // the last velocities or positions frame, viewed by exchange()
   std::vector<double> unaligned_;  // copy target if a frame's doubles are not aligned
   std::vector<double> staging_;    // positions_buffer() | forces_buffer() without shared memory
   SharedSegment segment_;  // ipc data path: positions | forces | velocities, 24 N bytes each

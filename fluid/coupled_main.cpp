@@ -222,24 +222,39 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
     // Interrupted, the run ends at the next step a resume repeats exactly (see
     // CouplingParams::exact_resume_every); the membranes end there too.
     const std::int64_t exact_every = scene.coupling.exact_resume_every();
+    std::vector<double> held_x;  // the nodes during held steps, moved here as the membranes would
     while ((!g_stop || solver.steps() % exact_every != 0) && side.receive()) {
       t.lap(t.wait);
-      const auto x = side.positions();
-      ib.spread(x, side.forces(), solver.force_field());
-      t.lap(t.spread);
-      if (contrast) update_contrast(*contrast, scene, solver, x, steps == 0, warned_unpaired);
-      t.lap(t.contrast);
-      solver.step();
-      t.lap(t.fluid);
-      require_finite_lattice(solver);
-      velocity.resize(x.size());
-      ib.interpolate(x, solver.velocity_field(), velocity);
-      require_resolved_velocities(velocity, side, solver.steps());
-      side.send_velocities(velocity);
-      t.lap(t.interpolate);
-      ++steps;
-      if (opt.checkpoint_every > 0 && solver.steps() % opt.checkpoint_every == 0) checkpoint();
-      if (steps % scene.run.log_every == 0) log_progress(scene, solver, out.get(), steps, start);
+      // Held steps (the membranes' forces held for n > 1 steps): the nodes move by X += U dt
+      // (dt = 1) here after each step, as the membranes would move them, bit for bit.
+      const std::uint64_t n = side.held_steps();
+      std::span<const double> x = side.positions();
+      if (n > 1) {
+        held_x.assign(x.begin(), x.end());
+        x = held_x;
+      }
+      for (std::uint64_t j = 0; j < n; ++j) {
+        ib.spread(x, side.forces(), solver.force_field());
+        t.lap(t.spread);
+        if (contrast) update_contrast(*contrast, scene, solver, x, steps == 0, warned_unpaired);
+        t.lap(t.contrast);
+        solver.step();
+        t.lap(t.fluid);
+        require_finite_lattice(solver);
+        velocity.resize(x.size());
+        ib.interpolate(x, solver.velocity_field(), velocity);
+        require_resolved_velocities(velocity, side, solver.steps());
+        if (n == 1) {
+          side.send_velocities(velocity);
+        } else {
+          for (std::size_t i = 0; i < held_x.size(); ++i) held_x[i] += velocity[i];
+          if (j + 1 == n) side.send_positions(held_x);
+        }
+        t.lap(t.interpolate);
+        ++steps;
+        if (opt.checkpoint_every > 0 && solver.steps() % opt.checkpoint_every == 0) checkpoint();
+        if (steps % scene.run.log_every == 0) log_progress(scene, solver, out.get(), steps, start);
+      }
     }
     if (out && scene.output.fields) out->snapshot(solver);
     side.finalize();

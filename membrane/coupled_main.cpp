@@ -100,6 +100,8 @@ class CoupledRun {
   void resume();
   void open_output();
   std::string step_loop(std::int64_t& s);
+  std::int64_t held_steps(std::int64_t s) const;
+  void after_steps(std::int64_t e, std::string& stop);
   void sample(std::int64_t step);
   void sample_mesh(std::int64_t step) {
     if (mesh_) mesh_->append(step, cells_.positions() * dx_um_);
@@ -315,21 +317,39 @@ void CoupledRun::summary() const {
         100 * guard_->worst_volume_change(k), guard_->worst_penetration_um(k));
 }
 
+// Steps from s to the next one at which this program has work: a force update, a sample, a mesh,
+// a checkpoint, a progress line or the last step. With forces held ([coupling] force_every > 1)
+// the fluid runs the steps in between and moves the nodes itself (coupler/membrane_side.hpp,
+// advance_held): the same sums, bit for bit, without waking this program every step.
+std::int64_t CoupledRun::held_steps(std::int64_t s) const {
+  if (scene_.coupling.force_every == 1 || a_.exchange_every_step) return 1;
+  std::int64_t next = a_.steps;
+  const auto up_to_next = [&](std::int64_t every) {
+    if (every > 0) next = std::min(next, (s / every + 1) * every);
+  };
+  for (const std::int64_t every : std::initializer_list<std::int64_t>{
+           scene_.coupling.force_every, a_.sample_every, scene_.output.mesh_every,
+           a_.checkpoint_every, scene_.run.log_every})
+    up_to_next(every);
+  return next - s;
+}
+
 // The steps from s on: forces, the exchange (which includes waiting for the fluid's step), moving
-// the nodes (no-slip: X += U dt, dt = 1), then samples, stop rules, checkpoints and progress.
-// Returns why it ended; wall time per step goes to t_membrane_ (forces, moving the nodes) and
-// t_exchange_ (the exchange, which includes waiting for the fluid's step).
+// the nodes (no-slip: X += U dt, dt = 1), then samples, stop rules, checkpoints and progress; n > 1
+// held steps at a time where the forces are held (held_steps()). Returns why it ended; wall time
+// goes to t_membrane_ (forces, moving the nodes) and t_exchange_ (the exchange, which includes
+// waiting for the fluid's steps).
 std::string CoupledRun::step_loop(std::int64_t& s) {
   Points force;
   std::vector<double> u(static_cast<std::size_t>(3 * cells_.node_count()));
   const std::int64_t s0 = s;
   const std::int64_t force_every = scene_.coupling.force_every;
-  const std::int64_t mesh_every = scene_.output.mesh_every;
   // A run that is to end (interrupted, or a stop rule met) ends at the next step a resume from its
   // checkpoint repeats exactly; the fluid does the same on an interrupt (fluid/coupled_main.cpp).
+  // Such steps are multiples of force_every, so a run of held steps never passes one.
   const std::int64_t exact_every = scene_.coupling.exact_resume_every();
   std::string stop;
-  for (; s < a_.steps; ++s) {
+  for (std::int64_t n = 1; s < a_.steps; s += n) {
     if (stop.empty() && g_stop) stop = "interrupted";
     if (!stop.empty() && s % exact_every == 0) return stop;
     const auto t0 = Clock::now();
@@ -340,26 +360,40 @@ std::string CoupledRun::step_loop(std::int64_t& s) {
         halo_pairs_ = std::max(halo_pairs_, cells_.contact()->last_ghost_pair_count());
     }
     const std::span<const double> f(force.data(), static_cast<std::size_t>(force.size()));
+    n = held_steps(s);
     const auto t1 = Clock::now();
-    if (!side_.advance(cells_.flat_positions(), f, u)) return "the fluid ended the run";
+    Points& x = cells_.positions();
+    if (n == 1) {
+      if (!side_.advance(cells_.flat_positions(), f, u)) return "the fluid ended the run";
+    } else if (!side_.advance_held(cells_.flat_positions(), f, static_cast<std::uint64_t>(n),
+                                   std::span<double>(x.data(), static_cast<std::size_t>(x.size())))) {
+      return "the fluid ended the run";
+    }
     const auto t2 = Clock::now();
-    cells_.move(std::span<const double>(u), 1.0);
+    if (n == 1) cells_.move(std::span<const double>(u), 1.0);
     apply_halo();
     t_membrane_ += std::chrono::duration<double>(t1 - t0 + (Clock::now() - t2)).count();
     t_exchange_ += std::chrono::duration<double>(t2 - t1).count();
-    if (mesh_every > 0 && (s + 1) % mesh_every == 0) sample_mesh(s + 1);
-    if ((s + 1) % a_.sample_every == 0) {
-      sample(s + 1);
-      guard_->check(cells_, s + 1, first_);
-      if (stop.empty() && a_.pillars > 0 && tracker_->min_columns() >= a_.pillars)
-        stop = fmt::format("every cell passed {} pillars", a_.pillars);
-      if (stop.empty() && a_.stop_when_mode_certain && tracker_->all_modes_certain())
-        stop = "every cell's mode is certain";
-    }
-    if (a_.checkpoint_every > 0 && (s + 1) % a_.checkpoint_every == 0) checkpoint(s + 1);
-    if ((s + 1) % scene_.run.log_every == 0) progress(s + 1);
+    after_steps(s + n, stop);
   }
   return stop.empty() ? "step limit reached" : stop;
+}
+
+// What follows the steps up to e: meshes, samples with the guard and the stop rules, checkpoints
+// and the progress line, each at its own multiple.
+void CoupledRun::after_steps(std::int64_t e, std::string& stop) {
+  const std::int64_t mesh_every = scene_.output.mesh_every;
+  if (mesh_every > 0 && e % mesh_every == 0) sample_mesh(e);
+  if (e % a_.sample_every == 0) {
+    sample(e);
+    guard_->check(cells_, e, first_);
+    if (stop.empty() && a_.pillars > 0 && tracker_->min_columns() >= a_.pillars)
+      stop = fmt::format("every cell passed {} pillars", a_.pillars);
+    if (stop.empty() && a_.stop_when_mode_certain && tracker_->all_modes_certain())
+      stop = "every cell's mode is certain";
+  }
+  if (a_.checkpoint_every > 0 && e % a_.checkpoint_every == 0) checkpoint(e);
+  if (e % scene_.run.log_every == 0) progress(e);
 }
 
 int CoupledRun::run() {

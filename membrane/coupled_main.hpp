@@ -23,6 +23,9 @@ struct CoupledArgs {
   /// any split: membrane/run_checkpoint.hpp); `steps` stays the last step.
   std::vector<std::string> resume;
   coupler::SecurityArgs security;  ///< tcp: CURVE key files or --plain-tcp
+  /// Exchange with the fluid every step even while the forces are held ([coupling] force_every >
+  /// 1), instead of letting the fluid run the held steps: the same results, slower (for checks).
+  bool exchange_every_step = false;
 };
 
 /// Runs this process's share of the scene's cells against dld-fluid; returns the exit code.

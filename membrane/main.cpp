@@ -151,6 +151,9 @@ static int run_main(int argc, char** argv) {
   app.add_flag("--until-mode-certain", coupled.stop_when_mode_certain,
                "coupled mode: end the run once every cell's mode (zigzag/displacement) is certain");
   dld::add_checkpoint_options(app, coupled.checkpoint, coupled.checkpoint_every, coupled.resume);
+  app.add_flag("--exchange-every-step", coupled.exchange_every_step,
+               "coupled mode: exchange with the fluid every step while forces are held too (the "
+               "same results, slower; default: the fluid runs the held steps)");
   app.add_option("-o,--output", output,
                  "HDF5 output of standalone runs (default: the scene's output.file)");
   bool pack = false;

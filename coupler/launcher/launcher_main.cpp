@@ -83,6 +83,7 @@ struct Options {
   int tracers = 16;
   std::int64_t steps = 1000;
   bool dry = false, until_certain = false, resume = false;
+  bool exchange_every_step = false;  ///< dld-membrane --exchange-every-step
   int pillars = 0;
   int membrane_processes = 0;      ///< 0: the scene's [coupling] membrane_processes
   std::vector<std::string> hosts;  ///< membrane processes' hosts (placement.hpp)
@@ -106,6 +107,9 @@ void add_options(CLI::App& app, Options& o) {
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--until-mode-certain", o.until_certain,
                "cells: end the run once every cell's mode (zigzag/displacement) is certain");
+  app.add_flag("--exchange-every-step", o.exchange_every_step,
+               "membrane processes exchange with the fluid every step while forces are held too "
+               "(the same results, slower; for checks)");
   app.add_option("--checkpoint-every", o.checkpoint_every,
                  "cells: steps between checkpoints (one is always written when the run ends)")
       ->check(CLI::NonNegativeNumber);
@@ -251,6 +255,7 @@ std::vector<std::string> membrane_command(const Options& o, const RunPaths& p,
   }
   if (o.pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(o.pillars)});
   if (o.until_certain) c.push_back("--until-mode-certain");
+  if (o.exchange_every_step) c.push_back("--exchange-every-step");
   c.insert(c.end(), {"--checkpoint", cell_checkpoint(p.stem, k), "--checkpoint-every",
                      std::to_string(o.checkpoint_every)});
   if (o.resume) {
