@@ -9,7 +9,7 @@
 //     fluid.send_velocities(u);          // same nodes, same order; step += 1
 //   }                                    // receive() == false: the membranes ended the run
 //   fluid.finalize();                    // tells the membranes to stop if they have not
-// Held steps (protocol version 5): when held_steps() = n > 1 the membranes hold their forces for
+// Held steps (docs/protocol.md): when held_steps() = n > 1 the membranes hold their forces for
 // steps step() to step() + n - 1; the fluid runs them, moving its copy of the nodes by X += U dt
 // (dt = 1) after each, and completes them with send_positions(X) instead of send_velocities().
 // Peer k's nodes occupy [node_offset(k), node_offset(k) + nodes) in the concatenated arrays.

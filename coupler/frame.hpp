@@ -19,9 +19,9 @@ static_assert(std::endian::native == std::endian::little,
 
 inline constexpr std::uint32_t kMagic = 0x43444C44;  ///< bytes 'D' 'L' 'D' 'C'
 /// 2: cell surfaces in the handshake; 3: named values to agree on instead of fixed fields;
-/// 4: the contact halo (handshake field, start positions and halo frames); 5: held steps (the
-/// fluid advances the nodes itself for several steps of held forces: steps and positions frames)
-inline constexpr std::uint16_t kProtocolVersion = 5;
+/// 4: the contact halo (handshake field, start positions and halo frames). Held steps (frame types
+/// 11-14) came later without a new version: only a membrane that sends them gets them answered.
+inline constexpr std::uint16_t kProtocolVersion = 4;
 inline constexpr std::size_t kHeaderBytes = 24;
 
 enum class FrameType : std::uint16_t {

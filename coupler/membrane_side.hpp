@@ -11,7 +11,7 @@
 //   }
 // With forces held for n > 1 steps ([coupling] force_every), advance_held(X, F, n, X') lets the
 // fluid run the n steps and move the nodes itself (X += U dt each step); X' are their positions
-// after them (protocol version 5, docs/protocol.md "Held steps").
+// after them (docs/protocol.md, "Held steps").
 //   membrane.finalize();                  // tells the fluid the run ends (if it has not ended it)
 // Coupling failures throw CouplerError after telling the fluid (error frame), which stops too.
 // One side object belongs to one thread at a time (its ZeroMQ sockets do).

@@ -89,6 +89,12 @@ INSTANTIATE_TEST_SUITE_P(
                  },
                  kPrefix + "field 'payload_bytes': 2 nodes need 104 bytes in a step frame, got "
                            "152"},
+        BadFrame{"NoHeldSteps", [] { return encode_held_steps(0, 0, kTwoNodes, kTwoNodes); },
+                 kPrefix + "field 'held_steps': expected 1 to 1000000 steps, got 0"},
+        BadFrame{"HeldStepsWithoutForces",
+                 [] { return cut(encode_held_steps(0, 5, kTwoNodes, kTwoNodes), 24 + 16 + 48); },
+                 kPrefix + "field 'payload_bytes': header announces 112 bytes but the held_steps "
+                           "frame carries 64"},
         BadFrame{"OutOfOrderStep", [] { return encode_step(5, kTwoNodes, kTwoNodes); },
                  kPrefix + "field 'step': expected 0, got 5"},
         BadFrame{"NaNForce",
