@@ -269,15 +269,16 @@ void FluidSide::send_nodes(Peer& peer, std::span<const double> values, bool posi
   zmq::message_t frame;
   if (peer.segment.mapped()) {
     peer.segment.require_size(kSelf, peer.label);
-    double* to = peer.segment.array(positions ? SegmentArray::kPositions : SegmentArray::kVelocities,
-                                    peer.nodes);
+    double* to = peer.segment.array(
+        positions ? SegmentArray::kPositions : SegmentArray::kVelocities, peer.nodes);
     if (static_cast<const void*>(to) != static_cast<const void*>(mine.data())) {
       std::memcpy(to, mine.data(), mine.size_bytes());  // not written through the buffer
     }
     frame = encode_count(positions ? FrameType::positions_shared : FrameType::velocities_shared,
                          step_, peer.nodes);
   } else {
-    frame = positions ? encode_positions(step_, mine, &pool_) : encode_velocities(step_, mine, &pool_);
+    frame =
+        positions ? encode_positions(step_, mine, &pool_) : encode_velocities(step_, mine, &pool_);
   }
   if (!peer.channel->send(frame)) {
     throw CouplerError(fmt::format("{}: {} did not take the {} of step {} within {} s", kSelf,

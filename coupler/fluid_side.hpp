@@ -121,8 +121,8 @@ class FluidSide {
     std::size_t nodes = 0;
     bool shut_down = false;
     std::uint64_t held_steps = 1;  // steps its last frame covers
-    zmq::message_t last_frame;  // kept so that positions()/forces() may point into it
-    SharedSegment segment;      // ipc data path offered by the peer and accepted
+    zmq::message_t last_frame;     // kept so that positions()/forces() may point into it
+    SharedSegment segment;         // ipc data path offered by the peer and accepted
   };
 
   void open(zmq::context_t& context);

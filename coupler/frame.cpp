@@ -241,13 +241,13 @@ const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& head
   return at + 8;
 }
 
-HeldSteps read_held_steps(const zmq::message_t& frame, const FrameHeader& header,
-                          std::size_t nodes, int arrays, const Link& link) {
+HeldSteps read_held_steps(const zmq::message_t& frame, const FrameHeader& header, std::size_t nodes,
+                          int arrays, const Link& link) {
   const std::byte* at = payload(frame);
   if (header.payload_bytes < 16) {
-    throw_malformed(link, header.step, "node_count",
-                    fmt::format("{} frame too short to hold the node and step counts",
-                                to_string(header.type)));
+    throw_malformed(
+        link, header.step, "node_count",
+        fmt::format("{} frame too short to hold the node and step counts", to_string(header.type)));
   }
   const auto count = get<std::uint64_t>(at);
   if (count != nodes) {

@@ -37,8 +37,8 @@ enum class FrameType : std::uint16_t {
   halo = 10,              ///< fluid -> membrane (halo on): other peers' cells near its own
   held_steps = 11,        ///< membrane -> fluid: node count, step count n, positions, forces
   held_steps_shared = 12,  ///< as held_steps, the arrays in the shared segment: count, n
-  positions = 13,         ///< fluid -> membrane: node count, positions after the n held steps
-  positions_shared = 14,  ///< as positions, the array in the shared segment's positions region
+  positions = 13,          ///< fluid -> membrane: node count, positions after the n held steps
+  positions_shared = 14,   ///< as positions, the array in the shared segment's positions region
 };
 inline constexpr std::uint16_t kLastFrameType = 14;
 std::string_view to_string(FrameType type);
@@ -124,8 +124,8 @@ struct HeldSteps {
   std::uint64_t steps = 1;
   const std::byte* data = nullptr;
 };
-HeldSteps read_held_steps(const zmq::message_t& frame, const FrameHeader& header,
-                          std::size_t nodes, int arrays, const Link& link);
+HeldSteps read_held_steps(const zmq::message_t& frame, const FrameHeader& header, std::size_t nodes,
+                          int arrays, const Link& link);
 
 /// The text of an error frame, cut at 4 KiB and with line breaks turned into spaces so it stays
 /// one line in the receiver's message.

@@ -4,8 +4,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <cstdint>
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <numeric>
 #include <stdexcept>
@@ -257,17 +257,18 @@ std::optional<std::span<const double>> MembraneSide::exchange_steps(
   return guarded([&]() -> std::optional<std::span<const double>> {
     send_steps(positions, forces, n);
     // n held steps take the fluid about n times one step's time.
-    const auto timeout = config_.options.timeout * static_cast<long>(std::min<std::uint64_t>(n, 10));
+    const auto timeout =
+        config_.options.timeout * static_cast<long>(std::min<std::uint64_t>(n, 10));
     auto reply = channel_->receive(timeout);
     // The fluid may itself be waiting, with the same timeout, for another membrane process that
     // died or hung: half a timeout more lets its error frame, which names that process, arrive
     // before this side blames the fluid.
     if (!reply) reply = channel_->receive(config_.options.timeout / 2);
     if (!reply) {
-      throw CouplerError(fmt::format(
-          "{}: no {} from the fluid within {} s at step {} (fluid dead or hung?)", self_,
-          n == 1 ? "velocities" : "positions",
-          seconds(timeout + config_.options.timeout / 2), step_));
+      throw CouplerError(
+          fmt::format("{}: no {} from the fluid within {} s at step {} (fluid dead or hung?)",
+                      self_, n == 1 ? "velocities" : "positions",
+                      seconds(timeout + config_.options.timeout / 2), step_));
     }
     // Keep the frame first: a small message's bytes live inside the message object.
     reply_ = std::move(*reply);
@@ -285,15 +286,15 @@ std::optional<std::span<const double>> MembraneSide::exchange_steps(
         break;
     }
     const bool held = n > 1;
-    const FrameType expected = held ? (shared_ ? FrameType::positions_shared : FrameType::positions)
-                                    : (shared_ ? FrameType::velocities_shared
-                                               : FrameType::velocities);
+    const FrameType expected =
+        held ? (shared_ ? FrameType::positions_shared : FrameType::positions)
+             : (shared_ ? FrameType::velocities_shared : FrameType::velocities);
     require_data_frame(header, expected, step_, link);
     const std::byte* data = read_nodes(reply_, header, nodes_,
                                        shared_ ? kSharedFrameArrays : kVelocitiesFrameArrays, link);
     if (shared_) {
-      data = reinterpret_cast<const std::byte*>(segment_.array(
-          held ? SegmentArray::kPositions : SegmentArray::kVelocities, nodes_));
+      data = reinterpret_cast<const std::byte*>(
+          segment_.array(held ? SegmentArray::kPositions : SegmentArray::kVelocities, nodes_));
     }
     require_finite(data, nodes_, held ? "positions" : "velocities", link, step_);
     step_ += n;

@@ -365,8 +365,9 @@ std::string CoupledRun::step_loop(std::int64_t& s) {
     Points& x = cells_.positions();
     if (n == 1) {
       if (!side_.advance(cells_.flat_positions(), f, u)) return "the fluid ended the run";
-    } else if (!side_.advance_held(cells_.flat_positions(), f, static_cast<std::uint64_t>(n),
-                                   std::span<double>(x.data(), static_cast<std::size_t>(x.size())))) {
+    } else if (!side_.advance_held(
+                   cells_.flat_positions(), f, static_cast<std::uint64_t>(n),
+                   std::span<double>(x.data(), static_cast<std::size_t>(x.size())))) {
       return "the fluid ended the run";
     }
     const auto t2 = Clock::now();

@@ -39,8 +39,8 @@ TEST_P(HeldStepsOver, PositionsComeBackAfterTheHeldStepsAndTheStepMovesByThem) {
   for (std::uint32_t k = 0; k < 2; ++k) {
     membranes.emplace_back([&, k] {
       try {
-        MembraneSide m({test_scene(3), fluid.endpoints()[k], "membrane-" + std::to_string(k), k,
-                        2, k == 0 ? 0u : 2u, split[k], test_options()},
+        MembraneSide m({test_scene(3), fluid.endpoints()[k], "membrane-" + std::to_string(k), k, 2,
+                        k == 0 ? 0u : 2u, split[k], test_options()},
                        context);
         m.initialize();
         std::vector<double> x(3 * m.node_count()), f(x.size()), after(x.size());
@@ -110,8 +110,14 @@ TEST(HeldStepsProtocol, PeersThatDisagreeStopTheRunNamingBoth) {
   for (std::uint32_t k = 0; k < 2; ++k) {
     membranes.emplace_back([&, k] {
       try {
-        MembraneSide m({test_scene(2), fluid.endpoints()[k], "membrane-" + std::to_string(k), k,
-                        2, k, {10}, test_options()},
+        MembraneSide m({test_scene(2),
+                        fluid.endpoints()[k],
+                        "membrane-" + std::to_string(k),
+                        k,
+                        2,
+                        k,
+                        {10},
+                        test_options()},
                        context);
         m.initialize();
         std::vector<double> x(30, 1.0), f(30, 0.5);
@@ -131,7 +137,8 @@ TEST(HeldStepsProtocol, PeersThatDisagreeStopTheRunNamingBoth) {
               "membrane 'membrane-1' for 2: membrane programs must hold the same steps");
   }
   for (auto& t : membranes) t.join();
-  for (const auto& e : errors) EXPECT_NE(e.find("must hold the same steps"), std::string::npos) << e;
+  for (const auto& e : errors)
+    EXPECT_NE(e.find("must hold the same steps"), std::string::npos) << e;
 }
 
 TEST(HeldStepsProtocol, AMembraneRefusesVelocitiesForHeldSteps) {
