@@ -4,7 +4,9 @@
 // and the step count moves by n. Peers that disagree on n stop the run naming both.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <span>
 #include <thread>
 
 #include "coupler_test_util.hpp"
@@ -56,7 +58,7 @@ TEST_P(HeldStepsOver, PositionsComeBackAfterTheHeldStepsAndTheStepMovesByThem) {
             expected = x;
             for (std::size_t i = 0; i < x.size(); ++i) expected[i] = x[i] + u[i];
           } else {  // the fluid's positions, in this peer's slice of the concatenation
-            std::vector<double> all(3 * 1656), unused(all.size());
+            std::vector<double> all(std::size_t{3} * 1656), unused(all.size());
             fill_nodes(s, 0, all, unused);
             const auto y = moved(all, s, n);
             const std::size_t first = k == 0 ? 0 : 3 * 1644;
@@ -181,8 +183,9 @@ TEST(HeldStepsProtocol, FrameRoundTripIsBitExact) {
   EXPECT_EQ(h.type, FrameType::held_steps);
   const HeldSteps held = read_held_steps(frame, h, 2, 2, link);
   EXPECT_EQ(held.steps, 5u);
-  EXPECT_EQ(std::memcmp(held.data, x.data(), 48), 0);
-  EXPECT_EQ(std::memcmp(held.data + 48, f.data(), 48), 0);
+  const auto bytes_x = std::as_bytes(std::span(x)), bytes_f = std::as_bytes(std::span(f));
+  EXPECT_TRUE(std::equal(bytes_x.begin(), bytes_x.end(), held.data));
+  EXPECT_TRUE(std::equal(bytes_f.begin(), bytes_f.end(), held.data + 48));
   const zmq::message_t shared = encode_held_steps_shared(42, 2, 7);
   EXPECT_EQ(read_held_steps(shared, read_header(shared, link, 42), 2, 0, link).steps, 7u);
 }
