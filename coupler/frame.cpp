@@ -219,53 +219,49 @@ FrameHeader read_header(const zmq::message_t& frame, const Link& link, std::uint
   return header;
 }
 
-const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& header,
-                            std::size_t nodes, int arrays, const Link& link) {
+namespace {
+
+/// The node arrays of a payload that opens with `counts` u64 fields, the first the node count:
+/// checks that count and the payload's length; returns the bytes after the counts.
+const std::byte* read_counted_nodes(const zmq::message_t& frame, const FrameHeader& header,
+                                    std::size_t nodes, int arrays, int counts, const Link& link) {
   const std::byte* at = payload(frame);
-  if (header.payload_bytes < 8) {
-    throw_malformed(
-        link, header.step, "node_count",
-        fmt::format("{} frame too short to hold the node count", to_string(header.type)));
+  const std::size_t head = 8 * static_cast<std::size_t>(counts);
+  if (header.payload_bytes < head) {
+    throw_malformed(link, header.step, "node_count",
+                    fmt::format("{} frame too short to hold the node count{}",
+                                to_string(header.type), counts > 1 ? " and step count" : ""));
   }
   const auto count = get<std::uint64_t>(at);
   if (count != nodes) {
     throw_malformed(link, header.step, "node_count",
                     fmt::format("expected {} nodes, got {}", nodes, count));
   }
-  const std::size_t expected = 8 + static_cast<std::size_t>(arrays) * 3 * 8 * nodes;
+  const std::size_t expected = head + static_cast<std::size_t>(arrays) * 3 * 8 * nodes;
   if (header.payload_bytes != expected) {
     throw_malformed(link, header.step, "payload_bytes",
                     fmt::format("{} nodes need {} bytes in a {} frame, got {}", nodes, expected,
                                 to_string(header.type), header.payload_bytes));
   }
-  return at + 8;
+  return at + head;
+}
+
+}  // namespace
+
+const std::byte* read_nodes(const zmq::message_t& frame, const FrameHeader& header,
+                            std::size_t nodes, int arrays, const Link& link) {
+  return read_counted_nodes(frame, header, nodes, arrays, 1, link);
 }
 
 HeldSteps read_held_steps(const zmq::message_t& frame, const FrameHeader& header, std::size_t nodes,
                           int arrays, const Link& link) {
-  const std::byte* at = payload(frame);
-  if (header.payload_bytes < 16) {
-    throw_malformed(
-        link, header.step, "node_count",
-        fmt::format("{} frame too short to hold the node and step counts", to_string(header.type)));
-  }
-  const auto count = get<std::uint64_t>(at);
-  if (count != nodes) {
-    throw_malformed(link, header.step, "node_count",
-                    fmt::format("expected {} nodes, got {}", nodes, count));
-  }
-  const auto n = get<std::uint64_t>(at + 8);
+  const std::byte* data = read_counted_nodes(frame, header, nodes, arrays, 2, link);
+  const auto n = get<std::uint64_t>(payload(frame) + 8);
   if (n < 1 || n > kMostHeldSteps) {
     throw_malformed(link, header.step, "held_steps",
                     fmt::format("expected 1 to {} steps, got {}", kMostHeldSteps, n));
   }
-  const std::size_t expected = 16 + static_cast<std::size_t>(arrays) * 3 * 8 * nodes;
-  if (header.payload_bytes != expected) {
-    throw_malformed(link, header.step, "payload_bytes",
-                    fmt::format("{} nodes need {} bytes in a {} frame, got {}", nodes, expected,
-                                to_string(header.type), header.payload_bytes));
-  }
-  return {n, at + 16};
+  return {n, data};
 }
 
 void require_finite(const std::byte* data, std::size_t nodes, std::string_view field,

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <functional>
 #include <span>
 #include <thread>
 
@@ -26,6 +27,38 @@ std::vector<double> moved(std::span<const double> x, std::uint64_t step, std::ui
   return y;
 }
 
+/// Membrane peers as threads, one per entry of `split` (its cells' node counts): each connects,
+/// initializes and runs `body(side, k)`; what it throws ends up in errors[k].
+struct Peers {
+  std::vector<std::string> errors;
+  std::vector<std::thread> threads;
+  Peers(zmq::context_t& context, const FluidSide& fluid, std::uint32_t cells,
+        const std::vector<std::vector<std::uint32_t>>& split,
+        const std::function<void(MembraneSide&, std::uint32_t)>& body)
+      : errors(split.size()) {
+    const auto peers = static_cast<std::uint32_t>(split.size());
+    std::uint32_t first = 0;
+    for (std::uint32_t k = 0; k < peers; ++k) {
+      threads.emplace_back([this, &context, &fluid, cells, peers, k, first, nodes = split[k],
+                            body] {
+        try {
+          MembraneSide m({test_scene(cells), fluid.endpoints()[k], "membrane-" + std::to_string(k),
+                          k, peers, first, nodes, test_options()},
+                         context);
+          m.initialize();
+          body(m, k);
+        } catch (const std::exception& e) {
+          errors[k] = e.what();
+        }
+      });
+      first += static_cast<std::uint32_t>(split[k].size());
+    }
+  }
+  void join() {
+    for (auto& t : threads) t.join();
+  }
+};
+
 class HeldStepsOver : public ::testing::TestWithParam<Kind> {};
 
 // Two peers: three held steps, then one step (velocities), then two held steps.
@@ -36,42 +69,30 @@ TEST_P(HeldStepsOver, PositionsComeBackAfterTheHeldStepsAndTheStepMovesByThem) {
   const std::vector<std::uint64_t> blocks{3, 1, 2};
   FluidSide fluid({test_scene(3), fluid_endpoints(GetParam(), 2, dir), {}, test_options()},
                   context);
-  std::vector<std::string> errors(2);
-  std::vector<std::thread> membranes;
-  for (std::uint32_t k = 0; k < 2; ++k) {
-    membranes.emplace_back([&, k] {
-      try {
-        MembraneSide m({test_scene(3), fluid.endpoints()[k], "membrane-" + std::to_string(k), k, 2,
-                        k == 0 ? 0u : 2u, split[k], test_options()},
-                       context);
-        m.initialize();
-        std::vector<double> x(3 * m.node_count()), f(x.size()), after(x.size());
-        for (std::uint64_t n : blocks) {
-          const std::uint64_t s = m.step();
-          fill_nodes(s, k == 0 ? 0 : 1644, x, f);
-          ASSERT_TRUE(m.advance_held(x, f, n, after));
-          EXPECT_EQ(m.step(), s + n);
-          std::vector<double> expected;
-          if (n == 1) {  // velocities: the side adds them to the positions (X += U dt, dt = 1)
-            std::vector<double> u;
-            dummy_velocities(s, x, f, u);
-            expected = x;
-            for (std::size_t i = 0; i < x.size(); ++i) expected[i] = x[i] + u[i];
-          } else {  // the fluid's positions, in this peer's slice of the concatenation
-            std::vector<double> all(std::size_t{3} * 1656), unused(all.size());
-            fill_nodes(s, 0, all, unused);
-            const auto y = moved(all, s, n);
-            const std::size_t first = k == 0 ? 0 : 3 * 1644;
-            expected.assign(y.begin() + first, y.begin() + first + x.size());
-          }
-          EXPECT_TRUE(bit_equal(after, expected)) << "peer " << k << " from step " << s;
-        }
-        m.finalize();
-      } catch (const std::exception& e) {
-        errors[k] = e.what();
+  Peers membranes(context, fluid, 3, split, [&](MembraneSide& m, std::uint32_t k) {
+    std::vector<double> x(3 * m.node_count()), f(x.size()), after(x.size());
+    for (std::uint64_t n : blocks) {
+      const std::uint64_t s = m.step();
+      fill_nodes(s, k == 0 ? 0 : 1644, x, f);
+      ASSERT_TRUE(m.advance_held(x, f, n, after));
+      EXPECT_EQ(m.step(), s + n);
+      std::vector<double> expected;
+      if (n == 1) {  // velocities: the side adds them to the positions (X += U dt, dt = 1)
+        std::vector<double> u;
+        dummy_velocities(s, x, f, u);
+        expected = x;
+        for (std::size_t i = 0; i < x.size(); ++i) expected[i] = x[i] + u[i];
+      } else {  // the fluid's positions, in this peer's slice of the concatenation
+        std::vector<double> all(std::size_t{3} * 1656), unused(all.size());
+        fill_nodes(s, 0, all, unused);
+        const auto y = moved(all, s, n);
+        const std::size_t first = k == 0 ? 0 : 3 * 1644;
+        expected.assign(y.begin() + first, y.begin() + first + x.size());
       }
-    });
-  }
+      EXPECT_TRUE(bit_equal(after, expected)) << "peer " << k << " from step " << s;
+    }
+    m.finalize();
+  });
   fluid.initialize();
   std::vector<std::uint64_t> seen;
   std::vector<double> u;
@@ -92,9 +113,9 @@ TEST_P(HeldStepsOver, PositionsComeBackAfterTheHeldStepsAndTheStepMovesByThem) {
   }
   EXPECT_EQ(fluid.step(), 6u);
   fluid.finalize();
-  for (auto& t : membranes) t.join();
-  EXPECT_EQ(errors[0], "");
-  EXPECT_EQ(errors[1], "");
+  membranes.join();
+  EXPECT_EQ(membranes.errors[0], "");
+  EXPECT_EQ(membranes.errors[1], "");
   EXPECT_EQ(seen, blocks);
 }
 
@@ -107,28 +128,10 @@ TEST(HeldStepsProtocol, PeersThatDisagreeStopTheRunNamingBoth) {
   TempDir dir;
   FluidSide fluid({test_scene(2), fluid_endpoints(Kind::inproc, 2, dir), {}, test_options()},
                   context);
-  std::vector<std::string> errors(2);
-  std::vector<std::thread> membranes;
-  for (std::uint32_t k = 0; k < 2; ++k) {
-    membranes.emplace_back([&, k] {
-      try {
-        MembraneSide m({test_scene(2),
-                        fluid.endpoints()[k],
-                        "membrane-" + std::to_string(k),
-                        k,
-                        2,
-                        k,
-                        {10},
-                        test_options()},
-                       context);
-        m.initialize();
-        std::vector<double> x(30, 1.0), f(30, 0.5);
-        (void)m.advance_held(x, f, k == 0 ? 3 : 2, x);
-      } catch (const std::exception& e) {
-        errors[k] = e.what();
-      }
-    });
-  }
+  Peers membranes(context, fluid, 2, {{10}, {10}}, [](MembraneSide& m, std::uint32_t k) {
+    std::vector<double> x(30, 1.0), f(30, 0.5);
+    (void)m.advance_held(x, f, k == 0 ? 3 : 2, x);
+  });
   fluid.initialize();
   try {
     (void)fluid.receive();
@@ -138,8 +141,8 @@ TEST(HeldStepsProtocol, PeersThatDisagreeStopTheRunNamingBoth) {
               "fluid: membrane 'membrane-0' holds its forces for 3 step(s) from step 0 and "
               "membrane 'membrane-1' for 2: membrane programs must hold the same steps");
   }
-  for (auto& t : membranes) t.join();
-  for (const auto& e : errors)
+  membranes.join();
+  for (const auto& e : membranes.errors)
     EXPECT_NE(e.find("must hold the same steps"), std::string::npos) << e;
 }
 
