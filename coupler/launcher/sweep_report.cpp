@@ -83,6 +83,18 @@ double run_wall_s(const StudyRun& run) {
 
 namespace {
 
+/// The "ETA S s" of a membrane progress line as a short duration ("40 s", "12 min", "3.5 h"), or
+/// "" when the line has none (no pillar target, or too little progress to extrapolate).
+std::string progress_eta(const std::string& line) {
+  const std::size_t e = line.find("  ETA ");
+  if (e == std::string::npos) return "";
+  const double s = std::atof(line.c_str() + e + 6);
+  if (!(s >= 0)) return "";
+  if (s < 120) return fmt::format("ETA {:.0f} s", s);
+  if (s < 7200) return fmt::format("ETA {:.0f} min", s / 60);
+  return fmt::format("ETA {:.1f} h", s / 3600);
+}
+
 /// From a membrane progress line "... step N  pillars passed X/Y ...": N and "X/Y".
 bool parse_progress(const std::string& line, long long& step, std::string& pillars) {
   const std::size_t s = line.find("] step "), p = line.find("pillars passed ");
@@ -117,7 +129,8 @@ std::string run_progress(const StudyRun& run) {
       const double passed = std::atof(pillars.c_str());
       if (passed < slowest) {
         slowest = passed;
-        progress = fmt::format("step {}, {} pillars", s, pillars);
+        const std::string eta = progress_eta(*it);
+        progress = fmt::format("step {}, {} pillars{}{}", s, pillars, eta.empty() ? "" : ", ", eta);
       }
       break;
     }

@@ -19,8 +19,8 @@ const char* state_name(RunState s);
 /// attempt's <dir>/attempt-running.csv.
 double run_wall_s(const StudyRun& run);
 /// How far a run got, for --list: the newest progress line of its membrane logs (step and the
-/// slowest process's pillars, e.g. "step 4145000, 17.00/20 pillars") and its wall time so far
-/// (run_wall_s); "" when there is neither.
+/// slowest process's pillars and its ETA, e.g. "step 4145000, 17.00/20 pillars, ETA 2.1 h") and
+/// its wall time so far (run_wall_s); "" when there is neither.
 std::string run_progress(const StudyRun& run);
 /// Appends one attempt (exit code, wall time) to <dir>/attempts.csv.
 void record_attempt(const StudyRun& run, int exit_code, double wall_s);

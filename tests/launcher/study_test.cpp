@@ -112,8 +112,15 @@ TEST_F(StudyFile, AListedPartialRunShowsItsSlowestProcessesProgress) {
   std::ofstream(r.dir / "run-cells-1.log")
       << "[dld-membrane] step 2000  pillars passed 0.60/2  300 steps/s  ETA 9 s  modes 1:z\n";
   std::ofstream(r.dir / "run-fluid.ckpt.h5") << "x";  // partial
-  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars");
+  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars, ETA 9 s");
   std::ofstream(r.dir / "attempts.csv") << "finished_unix_s,exit_code,wall_s\n1,130,5400.0\n";
+  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars, ETA 9 s, 1.5 h so far");
+  // Its membrane program's ETA as a short duration; none when the line has none.
+  std::ofstream(r.dir / "run-cells-1.log")
+      << "[dld-membrane] step 2000  pillars passed 0.60/2  300 steps/s  ETA 12600 s  modes 1:z\n";
+  EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars, ETA 3.5 h, 1.5 h so far");
+  std::ofstream(r.dir / "run-cells-1.log")
+      << "[dld-membrane] step 2000  pillars passed 0.60/2  300 steps/s  modes 1:z\n";
   EXPECT_EQ(dld::coupler::run_progress(r), "step 2000, 0.60/2 pillars, 1.5 h so far");
   // A sweep killed while the run ran left its attempt's time; the next start keeps it.
   dld::coupler::note_running_attempt(r, 1800.0);
