@@ -10,6 +10,7 @@
 
 #include "analysis/expected_mode.hpp"
 #include "analysis/locate.hpp"
+#include "analysis/pace.hpp"
 #include "analysis/report.hpp"
 #include "analysis/run_analysis.hpp"
 #include "analysis/run_file.hpp"
@@ -29,6 +30,7 @@ struct Options {
   std::string expected_mode;
   std::string modes_file;
   bool no_plots = false;
+  bool pace = false;
 };
 
 /// The command line, else the scene (stated in the run file), else the dilute-limit map: the more
@@ -82,6 +84,14 @@ int plot(const Options& o, const Run& run, const std::vector<std::string>& csvs,
   return status;
 }
 
+int report_pace(const Options& o, const Run& run) {
+  const RunPace p = run_pace(run);
+  std::fputs(format_pace(run, p, o.pillars).c_str(), stdout);
+  const std::string base = std::filesystem::path(run.stem).filename().string();
+  std::printf("wrote %s\n", write_pace_csv(p, o.pillars, o.out_dir, base).c_str());
+  return 0;
+}
+
 int run(int argc, char** argv) {
   CLI::App app("dld-analyze: failure probabilities and outlet counts of a run (SPEC section 7)");
   Options o;
@@ -104,6 +114,10 @@ int run(int argc, char** argv) {
   app.add_option("--modes", o.modes_file,
                  "dilute-limit map (default: configs/study/dilute_modes.toml)");
   app.add_flag("--no-plots", o.no_plots, "CSVs only");
+  app.add_flag("--pace", o.pace,
+               "how far each cell got and its steps per pillar, and the step at which every cell "
+               "will have passed --pillars at that pace (the stop rule); writes <base>-pace.csv, "
+               "evaluates nothing");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -128,6 +142,9 @@ int run(int argc, char** argv) {
   }
   try {
     const Run run = read_run(o.files);
+    if (o.pace) {
+      return report_pace(o, run);
+    }
     const RunAnalysis a = analyze_run(run, o.pillars, expected_mode(o, run));
     std::fputs(format_report(run, a).c_str(), stdout);
     const std::string base = std::filesystem::path(run.stem).filename().string();

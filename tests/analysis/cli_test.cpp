@@ -101,6 +101,28 @@ TEST(DldAnalyze, WritesTablesAndPlotsForARunOfTwoFiles) {
   EXPECT_GT(fs::file_size(dir + "/out/run-outlets.png"), 1000u);
 }
 
+TEST(DldAnalyze, PaceReportsEachCellAndTheStepOfTheStopRuleWithoutEvaluating) {
+  const std::string dir = testing::temp_dir("cli-pace");
+  // 600 samples 100 steps apart: cell 0 passes 0.6 columns, cell 1 0.15 (none a whole one, which
+  // the evaluation refuses and the pace does not need).
+  write_run_file(dir + "/run-cells-0.h5",
+                 {track(
+                      0, 3.0, 1.0, 0.6, [](double) { return 0.0; }, 600),
+                  track(
+                      1, 5.0, 8.0, 0.15, [](double) { return 0.0; }, 600)},
+                 {.first_cell = 0});
+  const Result r = run(std::string(DLD_ANALYZE_EXE) + " " + dir +
+                           "/run-cells-0.h5 --pace --pillars 20 -o " + dir + "/out",
+                       dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Cell 1: 60 000 steps for 0.15 columns, 400 000 per pillar: 20 pillars at step 8 000 000.
+  EXPECT_NE(r.output.find("step 8 000 000 (cell 1 last)"), std::string::npos) << r.output;
+  const auto csv = lines(dir + "/out/run-pace.csv");
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[2], "1,0.1500,400000,8000000");
+  EXPECT_FALSE(fs::exists(dir + "/out/run-summary.csv"));
+}
+
 TEST(DldAnalyze, TheMergedRunFileGivesTheTablesOfItsParts) {
   const std::string dir = testing::temp_dir("cli-merged");
   const double d = 4.4;
