@@ -106,7 +106,7 @@ std::string write_pace_csv(const RunPace& p, int n, const std::string& dir,
                            const std::string& base) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  const std::string path = (std::filesystem::path(dir) / (base + "-pace.csv")).string();
+  std::string path = (std::filesystem::path(dir) / (base + "-pace.csv")).string();
   std::ofstream out(path);
   out << "cell,pillars,steps_per_pillar,step_at_" << n << "_pillars\n";
   for (const CellPace& c : p.cells) {
