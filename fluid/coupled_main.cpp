@@ -234,7 +234,10 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
         x = held_x;
       }
       for (std::uint64_t j = 0; j < n; ++j) {
-        ib.spread(x, side.forces(), solver.force_field());
+        // [coupling] spread_held: the force field and weights of the last force update stay.
+        const bool spread = !scene.coupling.spread_held || steps == 0 ||
+                            solver.steps() % scene.coupling.force_every == 0;
+        if (spread) ib.spread(x, side.forces(), solver.force_field());
         t.lap(t.spread);
         if (contrast) update_contrast(*contrast, scene, solver, x, steps == 0, warned_unpaired);
         t.lap(t.contrast);
@@ -242,7 +245,11 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
         t.lap(t.fluid);
         require_finite_lattice(solver);
         velocity.resize(x.size());
-        ib.interpolate(x, solver.velocity_field(), velocity);
+        if (spread) {
+          ib.interpolate(x, solver.velocity_field(), velocity);
+        } else {
+          ib.interpolate_at_spread(solver.velocity_field(), velocity);
+        }
         require_resolved_velocities(velocity, side, solver.steps());
         if (n == 1) {
           side.send_velocities(velocity);

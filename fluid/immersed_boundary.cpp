@@ -240,7 +240,8 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
     }
   }
   if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
-  if (keep) spread_positions_.assign(positions.begin(), positions.end());
+  spread_positions_.assign(positions.begin(), positions.end());
+  spread_done_ = true;
 }
 
 void ImmersedBoundary::spread(std::span<const double> positions, std::span<const double> forces,
@@ -332,6 +333,13 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
     for (int a = 0; a < 3; ++a) out[3 * m + a] = u[a];
   }
   if (bad < markers) no_fluid_near(bad, &positions[3 * bad]);
+}
+
+void ImmersedBoundary::interpolate_at_spread(const std::array<const double*, 3>& velocity,
+                                             std::span<double> out) const {
+  if (!spread_done_)
+    throw std::logic_error("ImmersedBoundary: interpolate_at_spread before spread");
+  interpolate(spread_positions_, velocity, out);
 }
 
 void ImmersedBoundary::interpolate(std::span<const double> positions,

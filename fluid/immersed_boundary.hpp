@@ -48,6 +48,10 @@ class ImmersedBoundary {
   /// Velocity at each marker from the per-node velocity arrays (padded size, lattice units).
   void interpolate(std::span<const double> positions, const std::array<const double*, 3>& velocity,
                    std::span<double> out) const;
+  /// interpolate() at the positions of the last spread (its weights; [coupling] spread_held),
+  /// one velocity per marker of that spread. std::logic_error before any spread.
+  void interpolate_at_spread(const std::array<const double*, 3>& velocity,
+                             std::span<double> out) const;
 
   /// The separable footprint of a marker (fluid/ib_footprint.hpp) with W = the kernel's width;
   /// false when the marker needs stencil() instead: its support crosses the shifted x face or a
@@ -135,6 +139,7 @@ class ImmersedBoundary {
   mutable std::vector<std::vector<double>> kept_weights_;
   mutable std::vector<std::uint8_t> spread_kind_;
   mutable std::vector<double> spread_positions_;
+  mutable bool spread_done_ = false;  // spread_positions_ holds a spread's positions
 };
 
 }  // namespace dld::fluid

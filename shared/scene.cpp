@@ -160,6 +160,7 @@ void read_coupling(const TomlSection& c, Scene& s) {
   s.coupling.force_every = every("force_every", "membrane force updates");
   s.coupling.viscosity_field_every =
       every("viscosity_field_every", "rebuilds of the viscosity field");
+  s.coupling.spread_held = c.boolean("spread_held", false);
 }
 
 Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::string_view text) {
@@ -250,8 +251,11 @@ std::string Scene::describe() const {
       lattice.curved_walls ? "Bouzidi interpolated bounce-back" : "half-way bounce-back");
   out += fmt::format("  lattice body force: f_x {:.6g} (lattice units)", force_x_lu());
   out += fmt::format(
-      "\n  coupling: {} kernel, membrane forces every {} step(s), viscosity field every {} step(s)",
-      coupling.ib_kernel, coupling.force_every, coupling.viscosity_field_every);
+      "\n  coupling: {} kernel, membrane forces every {} step(s){}, viscosity field every {} "
+      "step(s)",
+      coupling.ib_kernel, coupling.force_every,
+      coupling.spread_held && coupling.force_every > 1 ? " (spread held with them)" : "",
+      coupling.viscosity_field_every);
   return out;
 }
 

@@ -77,6 +77,13 @@ struct CouplingParams {
   /// same update steps; 1 = every step (exact coupling).
   int force_every = 1;
   int viscosity_field_every = 1;
+  /// With forces held (force_every > 1): also hold what the immersed boundary made of them, the
+  /// spread force field and the interpolation weights, at the nodes' positions of the last force
+  /// update, instead of spreading at the moved nodes every step; the nodes still move by the
+  /// velocity interpolated there. The fluid then sees the membranes frozen between force updates
+  /// (numerics: the weights lag by at most force_every - 1 steps of node motion; measured in
+  /// docs/frontier.md). No effect with force_every = 1.
+  bool spread_held = false;
   /// The steps at which both held quantities are updated: a run stopped and checkpointed at a
   /// multiple of this resumes exactly as the straight run goes on (elsewhere the resumed run would
   /// recompute what the straight one holds), so interrupted runs end at the next multiple.

@@ -3,8 +3,10 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <array>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "fluid/immersed_boundary.hpp"
@@ -275,6 +277,33 @@ TEST(ImmersedBoundary, SpreadAndInterpolateEqualTheNodeListSums) {
       EXPECT_EQ(fresh_u, got_u) << static_cast<int>(k) << "-point, " << threads << " threads";
     }
     omp_set_num_threads(1);
+  }
+}
+
+TEST(ImmersedBoundary, InterpolationAtTheSpreadIsInterpolationAtItsPositions) {
+  // [coupling] spread_held: the velocity at the last spread's positions, whatever the markers did
+  // since, with every kernel; an error before any spread.
+  const Lattice L(test_domain(3.4));
+  const std::size_t n = L.padded_size();
+  const auto pos = markers_everywhere(L, 500, 9);
+  std::vector<double> frc(pos.size(), 0.1), vel(3 * n), field(3 * n);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (double& v : vel) v = u(rng);
+  const std::array<const double*, 3> v{vel.data(), vel.data() + n, vel.data() + 2 * n};
+  for (IbKernel k : kKernels) {
+    const ImmersedBoundary ib(L, k);
+    std::vector<double> held(pos.size()), want(pos.size()), moved_u(pos.size());
+    EXPECT_THROW(ib.interpolate_at_spread(v, held), std::logic_error);
+    ib.spread(pos, frc, {field.data(), field.data() + n, field.data() + 2 * n});
+    auto moved = pos;
+    for (double& x : moved) x += 0.3;  // the markers move on; the weights stay where they were
+    ib.interpolate(moved, v, moved_u);
+    ib.interpolate_at_spread(v, held);
+    const ImmersedBoundary fresh(L, k);
+    fresh.interpolate(pos, v, want);
+    EXPECT_EQ(held, want) << static_cast<int>(k) << "-point";
+    EXPECT_NE(held, moved_u) << static_cast<int>(k) << "-point";
   }
 }
 

@@ -175,6 +175,12 @@ TEST(Scene, TimeScaleSeparationIsOffUnlessAsked) {
   EXPECT_NE(held.describe().find("membrane forces every 5 step(s), viscosity field every 2"),
             std::string::npos)
       << held.describe();
+  EXPECT_FALSE(held.coupling.spread_held);
+  const dld::Scene spread = dld::parse_scene(
+      std::string(kGood) + "[coupling]\nforce_every = 5\nspread_held = true\n", "good.toml");
+  EXPECT_TRUE(spread.coupling.spread_held);
+  EXPECT_NE(spread.describe().find("every 5 step(s) (spread held with them)"), std::string::npos)
+      << spread.describe();
 }
 
 TEST(Scene, BadUpdateIntervalsAreNamed) {
@@ -184,6 +190,8 @@ TEST(Scene, BadUpdateIntervalsAreNamed) {
                "coupling.viscosity_field_every", 14, "expected 1 to 1000 steps");
   expect_error(std::string(kGood) + "[coupling]\nforce_every = 1.5\n", "coupling.force_every", 14,
                "expected an integer");
+  expect_error(std::string(kGood) + "[coupling]\nspread_held = 1\n", "coupling.spread_held", 14,
+               "expected true or false");
 }
 
 TEST(Scene, TablesOfOtherProgramsAreLeftToThem) {
