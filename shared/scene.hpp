@@ -71,7 +71,7 @@ struct CouplingParams {
   double timeout_s = 30.0;            ///< a peer silent this long stops the run
   /// Time-scale separation (numerics, not physics; measured in docs/frontier.md): the membrane
   /// forces are recomputed every `force_every` steps and held in between (spread at the nodes'
-  /// current positions every step), and the inside/outside viscosity field is rebuilt every
+  /// current positions every step unless spread_held), and the inside/outside viscosity field is rebuilt every
   /// `viscosity_field_every` steps, as HemoCell's timescale separation (Zavodszky et al., Front.
   /// Physiol. 8 (2017) 563). Steps are counted from the run's start, so a resumed run keeps the
   /// same update steps; 1 = every step (exact coupling).

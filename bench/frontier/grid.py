@@ -20,10 +20,11 @@ KNOBS = {
                               lambda v: _int(v) and 1 <= v <= 1000, "steps 1..1000"),
     "collision": ("lattice.collision", lambda v: v in ("trt", "bgk", "mrt"),
                   '"trt", "bgk" or "mrt"'),
+    "spread_held": ("coupling.spread_held", lambda v: isinstance(v, bool), "true or false"),
 }
 # Knobs a grid may leave out of [reference]: their value where no point names them (a grid made
 # before the knob existed keeps its runs: scenes name such a knob only where a point changes it).
-KNOB_DEFAULTS = {"collision": "trt"}
+KNOB_DEFAULTS = {"collision": "trt", "spread_held": False}
 KINDS = {"dilute": ("row_shift_um", "capillary_number", "columns"),
          "dense": ("row_shift_um", "capillary_number", "cells", "t_pprime_Pa_s_per_m"),
          "stability": ("row_shift_um", "capillary_number", "cells", "steps"),

@@ -98,6 +98,8 @@ class BadGrid(unittest.TestCase):
         self.expect_refused(GOOD + '[[point]]\nname = "x"\nforce_every = 0\n', "'force_every' = 0",
                             "steps 1..1000")
         self.expect_refused(GOOD + '[[point]]\nname = "x"\nib_kernel = "gauss"\n', "ib_kernel")
+        self.expect_refused(GOOD + '[[point]]\nname = "x"\nspread_held = 1\n', "'spread_held' = 1",
+                            "true or false")
 
     def test_reference_must_name_every_knob(self):
         self.expect_refused(GOOD.replace("force_every = 1\n", ""), "[reference]", "force_every")

@@ -178,7 +178,9 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
         const auto x = fluid_side.positions();
         const auto f = fluid_side.forces();
         const auto field = solver.force_field();
-        ib.spread(x, f, field);
+        const bool spread = !s.spread_held ||
+                            fluid_side.step() % static_cast<std::uint64_t>(s.force_every) == 0;
+        if (spread) ib.spread(x, f, field);
         if (contrast) {
           contrast->update(x, solver.relaxation_field());
           const double inside = static_cast<double>(contrast->inside_nodes().size()) / volume0;
@@ -202,7 +204,11 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
         }
         solver.step();
         velocity.resize(x.size());
-        ib.interpolate(x, solver.velocity_field(), velocity);
+        if (spread) {
+          ib.interpolate(x, solver.velocity_field(), velocity);
+        } else {
+          ib.interpolate_at_spread(solver.velocity_field(), velocity);
+        }
         fluid_side.send_velocities(velocity);
       }
       fluid_side.finalize();

@@ -44,6 +44,9 @@ static int run_main(int argc, char** argv) {
   app.add_option("--force-every", s.force_every,
                  "membrane forces every N steps, held in between ([coupling] force_every)")
       ->check(CLI::PositiveNumber);
+  app.add_flag("--spread-held", s.spread_held,
+               "spread forces and interpolation weights held with the forces ([coupling] "
+               "spread_held)");
   app.add_option("--settled", settled, "steady D: mean over the last fraction of the strain");
   app.add_option("--csv", csv, "write gammadot_t, D, inclination, volume ratio here");
   CLI11_PARSE(app, argc, argv);
