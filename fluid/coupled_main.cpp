@@ -234,9 +234,11 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
         x = held_x;
       }
       for (std::uint64_t j = 0; j < n; ++j) {
-        // [coupling] spread_held: the force field and weights of the last force update stay.
+        // [coupling] spread_held: the force field of the last force update stays (and with
+        // interpolation_held its weights too).
         const bool spread = !scene.coupling.spread_held || steps == 0 ||
                             solver.steps() % scene.coupling.force_every == 0;
+        const bool weights_held = !spread && scene.coupling.interpolation_held;
         if (spread) ib.spread(x, side.forces(), solver.force_field());
         t.lap(t.spread);
         if (contrast) update_contrast(*contrast, scene, solver, x, steps == 0, warned_unpaired);
@@ -245,10 +247,10 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
         t.lap(t.fluid);
         require_finite_lattice(solver);
         velocity.resize(x.size());
-        if (spread) {
-          ib.interpolate(x, solver.velocity_field(), velocity);
-        } else {
+        if (weights_held) {
           ib.interpolate_at_spread(solver.velocity_field(), velocity);
+        } else {
+          ib.interpolate(x, solver.velocity_field(), velocity);
         }
         require_resolved_velocities(velocity, side, solver.steps());
         if (n == 1) {

@@ -161,6 +161,9 @@ void read_coupling(const TomlSection& c, Scene& s) {
   s.coupling.viscosity_field_every =
       every("viscosity_field_every", "rebuilds of the viscosity field");
   s.coupling.spread_held = c.boolean("spread_held", false);
+  s.coupling.interpolation_held = c.boolean("interpolation_held", false);
+  if (s.coupling.interpolation_held && !s.coupling.spread_held)
+    c.fail("interpolation_held", "needs spread_held = true (the weights held are the spread's)");
 }
 
 Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::string_view text) {
@@ -254,7 +257,9 @@ std::string Scene::describe() const {
       "\n  coupling: {} kernel, membrane forces every {} step(s){}, viscosity field every {} "
       "step(s)",
       coupling.ib_kernel, coupling.force_every,
-      coupling.spread_held && coupling.force_every > 1 ? " (spread held with them)" : "",
+      !coupling.spread_held || coupling.force_every == 1 ? ""
+      : coupling.interpolation_held ? " (spread and its weights held with them)"
+                                    : " (spread held with them)",
       coupling.viscosity_field_every);
   return out;
 }

@@ -71,19 +71,20 @@ struct CouplingParams {
   double timeout_s = 30.0;            ///< a peer silent this long stops the run
   /// Time-scale separation (numerics, not physics; measured in docs/frontier.md): the membrane
   /// forces are recomputed every `force_every` steps and held in between (spread at the nodes'
-  /// current positions every step unless spread_held), and the inside/outside viscosity field is rebuilt every
-  /// `viscosity_field_every` steps, as HemoCell's timescale separation (Zavodszky et al., Front.
-  /// Physiol. 8 (2017) 563). Steps are counted from the run's start, so a resumed run keeps the
-  /// same update steps; 1 = every step (exact coupling).
+  /// current positions every step unless spread_held), and the inside/outside viscosity field is
+  /// rebuilt every `viscosity_field_every` steps, as HemoCell's timescale separation (Zavodszky et
+  /// al., Front. Physiol. 8 (2017) 563). Steps are counted from the run's start, so a resumed run
+  /// keeps the same update steps; 1 = every step (exact coupling).
   int force_every = 1;
   int viscosity_field_every = 1;
-  /// With forces held (force_every > 1): also hold what the immersed boundary made of them, the
-  /// spread force field and the interpolation weights, at the nodes' positions of the last force
-  /// update, instead of spreading at the moved nodes every step; the nodes still move by the
-  /// velocity interpolated there. The fluid then sees the membranes frozen between force updates
-  /// (numerics: the weights lag by at most force_every - 1 steps of node motion; measured in
-  /// docs/frontier.md). No effect with force_every = 1.
+  /// With forces held (force_every > 1): also hold the force field spread from them, spread at
+  /// the nodes' positions of the last force update instead of at the moved nodes every step
+  /// (numerics: measured in docs/frontier.md). No effect with force_every = 1.
   bool spread_held = false;
+  /// With spread_held: also hold that spread's interpolation weights, so the nodes move by the
+  /// velocity interpolated at their positions of the last force update (cheaper again, but the
+  /// enclosed volumes drift faster: docs/performance.md, "Held spreading").
+  bool interpolation_held = false;
   /// The steps at which both held quantities are updated: a run stopped and checkpointed at a
   /// multiple of this resumes exactly as the straight run goes on (elsewhere the resumed run would
   /// recompute what the straight one holds), so interrupted runs end at the next multiple.

@@ -218,7 +218,7 @@ def capsule_args(problem, point):
     """dld-capsule-shear's options for a point: dx sets a = 2.4 um / dx nodes (box 8a x 8a x 10a),
     mesh_faces scales the icosphere (1280 faces at the DLD mesh's 2000; the nearest 20 * 4^n is
     used), reynolds is the capsule's Re = gammadot a^2 / nu (0.1 at the reference, as the
-    validation), ib_kernel, force_every, spread_held and collision as in a coupled run; viscosity_field_every does not
+    validation), ib_kernel, force_every, spread_held, interpolation_held and collision as in a coupled run; viscosity_field_every does not
     apply (viscosity ratio 1, as the benchmark)."""
     k = point.knobs
     a = CAPSULE_RADIUS_UM / k["dx_um"]
@@ -229,7 +229,8 @@ def capsule_args(problem, point):
             "--force-every", str(k["force_every"]), "--strain", repr(float(problem.values["strain"])),
             "--sample-every", "20", "--transport", "inproc"] + (
                 [] if k["collision"] == KNOB_DEFAULTS["collision"] else ["--collision", k["collision"]]) + (
-                ["--spread-held"] if k["spread_held"] else [])
+                ["--spread-held"] if k["spread_held"] else []) + (
+                ["--interpolation-held"] if k["interpolation_held"] else [])
 
 
 def run_capsule(problem, point, d, exe):

@@ -181,6 +181,13 @@ TEST(Scene, TimeScaleSeparationIsOffUnlessAsked) {
   EXPECT_TRUE(spread.coupling.spread_held);
   EXPECT_NE(spread.describe().find("every 5 step(s) (spread held with them)"), std::string::npos)
       << spread.describe();
+  EXPECT_FALSE(spread.coupling.interpolation_held);
+  const dld::Scene weights = dld::parse_scene(std::string(kGood) +
+                                                  "[coupling]\nforce_every = 5\nspread_held = "
+                                                  "true\ninterpolation_held = true\n",
+                                              "good.toml");
+  EXPECT_TRUE(weights.coupling.interpolation_held);
+  EXPECT_NE(weights.describe().find("(spread and its weights held with them)"), std::string::npos);
 }
 
 TEST(Scene, BadUpdateIntervalsAreNamed) {
@@ -192,6 +199,8 @@ TEST(Scene, BadUpdateIntervalsAreNamed) {
                "expected an integer");
   expect_error(std::string(kGood) + "[coupling]\nspread_held = 1\n", "coupling.spread_held", 14,
                "expected true or false");
+  expect_error(std::string(kGood) + "[coupling]\nforce_every = 5\ninterpolation_held = true\n",
+               "coupling.interpolation_held", 15, "needs spread_held = true");
 }
 
 TEST(Scene, TablesOfOtherProgramsAreLeftToThem) {

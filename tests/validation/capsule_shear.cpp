@@ -178,8 +178,8 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
         const auto x = fluid_side.positions();
         const auto f = fluid_side.forces();
         const auto field = solver.force_field();
-        const bool spread = !s.spread_held ||
-                            fluid_side.step() % static_cast<std::uint64_t>(s.force_every) == 0;
+        const bool spread =
+            !s.spread_held || fluid_side.step() % static_cast<std::uint64_t>(s.force_every) == 0;
         if (spread) ib.spread(x, f, field);
         if (contrast) {
           contrast->update(x, solver.relaxation_field());
@@ -204,10 +204,10 @@ CapsuleShearRun run_capsule_shear(const CapsuleShearSetup& s) {
         }
         solver.step();
         velocity.resize(x.size());
-        if (spread) {
-          ib.interpolate(x, solver.velocity_field(), velocity);
-        } else {
+        if (!spread && s.interpolation_held) {
           ib.interpolate_at_spread(solver.velocity_field(), velocity);
+        } else {
+          ib.interpolate(x, solver.velocity_field(), velocity);
         }
         fluid_side.send_velocities(velocity);
       }

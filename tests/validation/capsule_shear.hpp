@@ -41,9 +41,10 @@ struct CapsuleShearSetup {
   /// Membrane forces recomputed every force_every steps and held in between (spread at the
   /// nodes' current positions every step), as [coupling] force_every does in a coupled run.
   int force_every = 1;
-  /// The spread force field and interpolation weights held with the forces ([coupling]
-  /// spread_held): spread at the positions of each force update only.
+  /// The spread force field held with the forces ([coupling] spread_held): spread at the
+  /// positions of each force update only; with interpolation_held its weights too.
   bool spread_held = false;
+  bool interpolation_held = false;
   CollisionKind collision = CollisionKind::kTrt;  ///< the lattice's collision operator
   Transport transport = Transport::inproc;
 };

@@ -45,12 +45,17 @@ static int run_main(int argc, char** argv) {
                  "membrane forces every N steps, held in between ([coupling] force_every)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--spread-held", s.spread_held,
-               "spread forces and interpolation weights held with the forces ([coupling] "
-               "spread_held)");
+               "spread force field held with the forces ([coupling] spread_held)");
+  app.add_flag("--interpolation-held", s.interpolation_held,
+               "with --spread-held, its interpolation weights too ([coupling] interpolation_held)");
   app.add_option("--settled", settled, "steady D: mean over the last fraction of the strain");
   app.add_option("--csv", csv, "write gammadot_t, D, inclination, volume ratio here");
   CLI11_PARSE(app, argc, argv);
   if (box > 0) s.nx = s.ny = s.nz = box;
+  if (s.interpolation_held && !s.spread_held) {
+    std::cerr << "dld-capsule-shear: error: --interpolation-held needs --spread-held\n";
+    return 2;
+  }
   try {
     s.transport = transport_from_name(transport);
     s.kernel = dld::fluid::ib_kernel_from_name(kernel);
