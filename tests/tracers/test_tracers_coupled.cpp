@@ -40,7 +40,7 @@ class TracersCoupled : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string scene(double dx, double timeout_s) {
-    const std::string path = (dir_ / ("scene-" + std::to_string(dx) + ".toml")).string();
+    std::string path = (dir_ / ("scene-" + std::to_string(dx) + ".toml")).string();
     std::ofstream(path) << "[scene]\nname = \"tracers\"\n[geometry]\npillar_radius_um = 10.0\n"
                            "pillar_spacing_um = 32.0\ndepth_um = 4.8\nrow_shift_um = 4.4\n"
                            "[lattice]\ndx_um = "
@@ -56,7 +56,7 @@ class TracersCoupled : public ::testing::Test {
   /// One-cell scene; `extra` goes at the end of [coupling], `fluid` is the [fluid] table's body.
   std::string cell_scene(const std::string& name, const std::string& extra = "",
                          const std::string& fluid = "") {
-    const std::string sc = (dir_ / (name + ".toml")).string();
+    std::string sc = (dir_ / (name + ".toml")).string();
     std::ofstream(sc)
         << "[scene]\nname = \"" << name
         << "\"\n[geometry]\npillar_radius_um = 10.0\n"
@@ -115,7 +115,7 @@ TEST_F(TracersCoupled, RunCompletesAndTracersFollowTheFlow) {
   const std::size_t last = (dims[0] - 1) * dims[1];
   EXPECT_EQ(s[last], 3000.0);
   const dld::DldCell cell{32.0, 10.0, 4.8, 4.4};
-  for (int m = 0; m < 6; ++m) {
+  for (std::size_t m = 0; m < 6; ++m) {
     const double x0 = s[1 + 3 * m], x1 = s[last + 1 + 3 * m];
     EXPECT_GT(x1, x0) << "tracer " << m << " must move downstream";
     for (std::uint64_t r = 0; r < dims[0]; ++r) {
@@ -284,7 +284,7 @@ TEST_F(TracersCoupled, OneRedBloodCellMovesWithTheFlowAndKeepsItsVolume) {
   ASSERT_EQ(dims[0], 5u);
   ASSERT_EQ(dims[1], 5u);
   const double* first = &s[0];
-  const double* last = &s[4 * 5];
+  const double* last = &s[std::size_t{4} * 5];
   EXPECT_EQ(last[0], 2000.0);
   EXPECT_GT(last[1] - first[1], 0.5) << "downstream drift [um] in 2000 steps";
   EXPECT_GT(last[3], 1.0);
