@@ -189,6 +189,12 @@ def _write_scene(path, doc):
     return True
 
 
+def _interrupted(returncode):
+    """A run stopped by a signal (negative: killed by it; 130: dld-run's Ctrl-C exit), not one
+    that failed: its result is not kept, so the next frontier command runs or resumes it."""
+    return returncode < 0 or returncode == 130
+
+
 # What a scene means when it does not name a knob (docs/scene-keys.md).
 DEFAULTS = {"ib_kernel": "peskin4", "force_every": 1, "viscosity_field_every": 1, **KNOB_DEFAULTS}
 
@@ -249,6 +255,8 @@ def run_capsule(problem, point, d, exe):
                            stdout=log, stderr=subprocess.STDOUT, env={**os.environ,
                                                                     "OMP_NUM_THREADS": "1"})
     text = open(out, errors="replace").read()
+    if _interrupted(r.returncode):  # a stop (long-runs stop, Ctrl-C) is no result: run it again
+        return {"status": "interrupted (resumable)"}
     if r.returncode != 0:
         why = (text.strip().splitlines() or [f"exit code {r.returncode}"])[-1]
         return _keep(result_file, {"status": "failed", "why": why})
@@ -310,7 +318,7 @@ def run(grid, problem, point, out, exe):
     with open(stem + ".out", "a") as log:
         r = subprocess.run([exe["run"], scene, "--membrane", "cells", *args], stdout=log,
                            stderr=subprocess.STDOUT)
-    if r.returncode == 130:
+    if _interrupted(r.returncode):
         return {"status": "interrupted (resumable)"}
     if r.returncode != 0:
         f = _failure(stem) or ("failed", f"dld-run exit code {r.returncode}")
@@ -324,6 +332,8 @@ def run(grid, problem, point, out, exe):
         with open(os.path.join(d, "empty.out"), "w") as log:
             e = subprocess.run([exe["fluid"], scene, "--steps", args[1], "--threads", "1",
                                 "-o", empty], stdout=log, stderr=subprocess.STDOUT)
+        if _interrupted(e.returncode):
+            return {"status": "interrupted (resumable)"}
         if e.returncode != 0:
             return _keep(result_file, {"status": "failed", "why": "empty-device run failed"})
         res = dense_metrics(stem, empty, problem.values["t_pprime_Pa_s_per_m"],

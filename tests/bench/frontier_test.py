@@ -3,7 +3,7 @@
 """bench/frontier/frontier (issue 17): the quick grid runs and reports (the reference's errors
 against itself are zero, a held-update point has a finite error, a point beyond the stability
 limit is a row "unstable at step N", the plots are PNGs); bad grids stop with one line naming the
-key. Usage: frontier_test.py SOURCE_DIR"""
+key; a run stopped by a signal is not kept as a failure. Usage: frontier_test.py SOURCE_DIR"""
 import os
 import re
 import subprocess
@@ -74,6 +74,16 @@ row_shift_um = 6.0
 capillary_number = 0.2
 columns = [1, 2]
 """
+
+
+class StoppedRuns(unittest.TestCase):
+    def test_a_run_stopped_by_a_signal_is_not_a_failure(self):
+        # A point whose program a stop killed (long-runs stop, Ctrl-C) runs again next time; one
+        # that exited with an error keeps its "failed" row.
+        sys.path.insert(0, os.path.join(SOURCE, "bench/frontier"))
+        import point_run
+        for code, stopped in ((-2, True), (-9, True), (130, True), (0, False), (1, False), (2, False)):
+            self.assertEqual(point_run._interrupted(code), stopped, code)
 
 
 class BadGrid(unittest.TestCase):
