@@ -79,7 +79,8 @@ struct CouplingParams {
   int viscosity_field_every = 1;
   /// With forces held (force_every > 1): also hold the force field spread from them, spread at
   /// the nodes' positions of the last force update instead of at the moved nodes every step
-  /// (numerics: measured in docs/frontier.md). No effect with force_every = 1.
+  /// (numerics: measured by configs/frontier/spread-held.toml, docs/performance.md "Held
+  /// spreading"). No effect with force_every = 1.
   bool spread_held = false;
   /// With spread_held: also hold that spread's interpolation weights, so the nodes move by the
   /// velocity interpolated at their positions of the last force update (cheaper again, but the
