@@ -349,6 +349,13 @@ def _keep(path, result):
     return result
 
 
+def ran_here(problem, point, out):
+    """Whether this machine holds the point's own result (a record row then gives way to it)."""
+    if point.name == "reference" and "reference_run" in problem.values:
+        return os.path.exists(problem.values["reference_run"] + "-cells-0.h5")
+    return os.path.exists(os.path.join(out, problem.name, point.name, "result.json"))
+
+
 def read_only(problem, point, out):
     """What is known of a point without running anything (--report-only)."""
     if point.name == "reference" and "reference_run" in problem.values:

@@ -59,7 +59,9 @@ def _fmt(v, spec):
 
 
 def _knobs(point):
-    return ", ".join(f"{k} {v}" for k, v in point.changed.items()) or "(reference)"
+    def text(v):  # as the grid file writes it
+        return str(v).lower() if isinstance(v, bool) else v
+    return ", ".join(f"{k} {text(v)}" for k, v in point.changed.items()) or "(reference)"
 
 
 def pareto(rows):

@@ -3,9 +3,12 @@
 """bench/frontier/frontier (issue 17): the quick grid runs and reports (the reference's errors
 against itself are zero, a held-update point has a finite error, a point beyond the stability
 limit is a row "unstable at step N", the plots are PNGs); bad grids stop with one line naming the
-key; a run stopped by a signal is not kept as a failure. Usage: frontier_test.py SOURCE_DIR"""
+key; a run stopped by a signal is not kept as a failure; on a machine without the run folders the
+record beside the report gives the same rows, but not for a point whose knobs changed.
+Usage: frontier_test.py SOURCE_DIR"""
 import os
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -57,6 +60,33 @@ class QuickGrid(unittest.TestCase):
             self.assertEqual(again.returncode, 0, again.stderr)
             with open(os.path.join(d, "quick", "frontier.md")) as f:
                 self.assertEqual(rows(f.read(), "dense3")["held2"], rows(report, "dense3")["held2"])
+            self.new_machine(os.path.join(d, "quick"), report)
+
+    def new_machine(self, done, report):
+        """Only the report's folder (the record among its figures) moves to the new machine."""
+        with tempfile.TemporaryDirectory() as d:
+            shutil.copytree(os.path.join(done, "frontier"), os.path.join(d, "frontier"))
+            with open(os.path.join(SOURCE, "configs/frontier/quick.toml")) as f:
+                grid = f.read()
+            changed = os.path.join(d, "quick.toml")  # the record is the grid's: same file name
+            with open(changed, "w") as f:
+                f.write(grid.replace('name = "held2"\nforce_every = 2', 'name = "held2"\nforce_every = 3'))
+            for path, held2_restored in ((os.path.join(SOURCE, "configs/frontier/quick.toml"), True),
+                                         (changed, False)):
+                r = frontier("--grid", path, "--out", os.path.join(d, "runs"), "--report-only",
+                             "--report", os.path.join(d, "frontier.md"))
+                self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+                with open(os.path.join(d, "frontier.md")) as f:
+                    again = f.read()
+                self.assertRegex(again, r"\d+ results are restored from `.*quick-results.csv`")
+                for problem in ("dilute-d6.0-ca0.2", "dense3", "hard3", "capsule-ca0.2"):
+                    old, new = rows(report, problem), rows(again, problem)
+                    for point in ("reference", "mrt", "re1"):
+                        self.assertEqual(new[point], old[point], (problem, point))
+                    if held2_restored:
+                        self.assertEqual(new["held2"], old["held2"], problem)
+                    else:  # force_every 3 is not the point that was run
+                        self.assertEqual(new["held2"][2], "not run", problem)
 
 
 GOOD = """
@@ -130,6 +160,21 @@ class BadGrid(unittest.TestCase):
             self.assertNotEqual(r.returncode, 0)
             self.assertEqual(r.stderr.strip(), "frontier: error: --only: 'dilute/fast': no point "
                              "'fast' in the grid (points: reference)")
+
+    def test_malformed_record(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "grid.toml")
+            with open(path, "w") as f:
+                f.write(GOOD)
+            os.makedirs(os.path.join(d, "frontier"))
+            record = os.path.join(d, "frontier", "grid-results.csv")
+            with open(record, "w") as f:
+                f.write("problem,point,status\ndilute,reference,ok\n")
+            r = frontier("--grid", path, "--out", d, "--report-only", "--report",
+                         os.path.join(d, "f.md"))
+            self.assertNotEqual(r.returncode, 0)
+            self.assertEqual(r.stderr.strip(), f"frontier: error: {record}: line 2: expected the "
+                             "columns problem, point, knobs, values, source")
 
     def test_not_toml(self):
         self.expect_refused("[reference\n", "not TOML")
