@@ -100,6 +100,10 @@ class ImmersedBoundary {
   void interpolate_kept_stencil(const KeptStencil& kept, const double* const v[3],
                                 double* out) const;
   template <int W>
+  bool interpolate_unseparable(const double* p, const double* const v[3], double* out) const;
+  void interpolate_moved(std::span<const double> positions, const double* const v[3],
+                         std::span<double> out) const;
+  template <int W>
   void interpolate_w(std::span<const double> positions,
                      const std::array<const double*, 3>& velocity, std::span<double> out) const;
   /// first_ and bin_ of every marker (in parallel): its support's first x column and its (x, y)

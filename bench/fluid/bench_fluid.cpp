@@ -152,6 +152,26 @@ BENCHMARK(BM_IbInterpolate)
     ->UseRealTime()
     ->Unit(benchmark::kMicrosecond);
 
+// Interpolation in a held step (fast's [coupling] force_every > 1 with spread_held): the markers
+// have moved since the last spread, so its footprints do not serve.
+void BM_IbInterpolateMoved(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld_config());
+  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
+  auto x = marker_cells(s.lattice(), static_cast<int>(state.range(1)));
+  const std::vector<double> f(x.size(), 1e-6);
+  std::vector<double> u(x.size());
+  ib.spread(x, f, s.force_field());
+  s.step();
+  for (double& v : x) v += 1e-3;  // about four held steps of a dense run's fastest nodes
+  for (auto _ : state) ib.interpolate(x, s.velocity_field(), u);
+  state.counters["markers"] = static_cast<double>(x.size() / 3);
+}
+BENCHMARK(BM_IbInterpolateMoved)
+    ->ArgsProduct({{1, 2}, {1, 17}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
+
 // The immersed boundary of one coupled step: spread at new positions, then interpolate at the same
 // positions (the markers move by a tiny amount between iterations, as they do between steps).
 void time_coupled_ib(benchmark::State& state, FluidSolver& s,
