@@ -165,7 +165,8 @@ void BM_IbInterpolateMoved(benchmark::State& state) {
   s.step();
   for (double& v : x) v += 1e-3;  // about four held steps of a dense run's fastest nodes
   for (auto _ : state) ib.interpolate(x, s.velocity_field(), u);
-  state.counters["markers"] = static_cast<double>(x.size() / 3);
+  const std::size_t markers = x.size() / 3;
+  state.counters["markers"] = static_cast<double>(markers);
 }
 BENCHMARK(BM_IbInterpolateMoved)
     ->ArgsProduct({{1, 2}, {1, 17}})
