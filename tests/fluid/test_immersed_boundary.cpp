@@ -20,6 +20,30 @@ using test::test_domain;
 
 const IbKernel kKernels[] = {IbKernel::kPeskin2, IbKernel::kPeskin3, IbKernel::kPeskin4};
 
+/// Markers everywhere in the test domain (shift 3.4) with forces 0.1, a force field to spread
+/// them into and a random velocity field (uniform in [-1, 1)) to interpolate.
+struct MarkersAndVelocity {
+  MarkersAndVelocity(int markers, unsigned seed, unsigned velocity_seed)
+      : L(test_domain(3.4)),
+        n(L.padded_size()),
+        pos(markers_everywhere(L, markers, seed)),
+        frc(pos.size(), 0.1),
+        field(3 * n),
+        vel(3 * n),
+        v{vel.data(), vel.data() + n, vel.data() + 2 * n} {
+    std::mt19937 rng(velocity_seed);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (double& x : vel) x = u(rng);
+  }
+  std::array<double*, 3> force_field() {
+    return {field.data(), field.data() + n, field.data() + 2 * n};
+  }
+  Lattice L;
+  std::size_t n;
+  std::vector<double> pos, frc, field, vel;
+  std::array<const double*, 3> v;
+};
+
 TEST(IbKernel, PartitionOfUnityAndZeroFirstMoment) {
   for (IbKernel k : kKernels)
     for (double x = 0.0; x < 1.0; x += 0.0625) {
@@ -283,19 +307,15 @@ TEST(ImmersedBoundary, SpreadAndInterpolateEqualTheNodeListSums) {
 TEST(ImmersedBoundary, InterpolationAtTheSpreadIsInterpolationAtItsPositions) {
   // [coupling] spread_held: the velocity at the last spread's positions, whatever the markers did
   // since, with every kernel; an error before any spread.
-  const Lattice L(test_domain(3.4));
-  const std::size_t n = L.padded_size();
-  const auto pos = markers_everywhere(L, 500, 9);
-  std::vector<double> frc(pos.size(), 0.1), vel(3 * n), field(3 * n);
-  std::mt19937 rng(4);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (double& v : vel) v = u(rng);
-  const std::array<const double*, 3> v{vel.data(), vel.data() + n, vel.data() + 2 * n};
+  MarkersAndVelocity scene(500, 9, 4);
+  const Lattice& L = scene.L;
+  const auto& pos = scene.pos;
+  const auto& v = scene.v;
   for (IbKernel k : kKernels) {
     const ImmersedBoundary ib(L, k);
     std::vector<double> held(pos.size()), want(pos.size()), moved_u(pos.size());
     EXPECT_THROW(ib.interpolate_at_spread(v, held), std::logic_error);
-    ib.spread(pos, frc, {field.data(), field.data() + n, field.data() + 2 * n});
+    ib.spread(pos, scene.frc, scene.force_field());
     auto moved = pos;
     for (double& x : moved) x += 0.3;  // the markers move on; the weights stay where they were
     ib.interpolate(moved, v, moved_u);
@@ -311,16 +331,14 @@ TEST(ImmersedBoundary, InterpolationAtMovedMarkersIsMarkerByMarkerBitForBit) {
   // A held step interpolates at markers moved since the last spread, in batches and in that
   // spread's order: each velocity is the one marker's own footprint sum, bit for bit, with or
   // without a spread before and with 1 or 2 threads.
-  const Lattice L(test_domain(3.4));
-  const std::size_t n = L.padded_size();
-  const auto pos = markers_everywhere(L, 2000, 12);
-  std::vector<double> frc(pos.size(), 0.1), vel(3 * n), field(3 * n);
-  std::mt19937 rng(6);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (double& v : vel) v = u(rng);
-  const std::array<const double*, 3> v{vel.data(), vel.data() + n, vel.data() + 2 * n};
+  MarkersAndVelocity scene(2000, 12, 6);
+  const Lattice& L = scene.L;
+  const auto& pos = scene.pos;
+  const auto& v = scene.v;
   auto moved = pos;
-  for (double& x : moved) x += 0.05 * u(rng);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.05, 0.05);
+  for (double& x : moved) x += u(rng);
   const ImmersedBoundary ib(L, IbKernel::kPeskin4);
   std::vector<double> want(pos.size());
   std::size_t separable = 0;
@@ -335,7 +353,7 @@ TEST(ImmersedBoundary, InterpolationAtMovedMarkersIsMarkerByMarkerBitForBit) {
     omp_set_num_threads(threads);
     const ImmersedBoundary fresh(L, IbKernel::kPeskin4);
     std::vector<double> got(pos.size()), got_fresh(pos.size());
-    ib.spread(pos, frc, {field.data(), field.data() + n, field.data() + 2 * n});
+    ib.spread(pos, scene.frc, scene.force_field());
     ib.interpolate(moved, v, got);
     fresh.interpolate(moved, v, got_fresh);
     EXPECT_EQ(got, got_fresh) << threads << " threads";
