@@ -174,7 +174,9 @@ TEST(Contact, GhostsOfOtherProcessesGiveTheOneProcessForcesBitForBit) {
       ghost_pairs += part[p].last_ghost_pair_count();
       Points alone = Points::Zero(3, own.cols());
       make(true, true, true).add_forces(own, per, alone);
-      if (step == 0 && p == 0) EXPECT_GT((alone - fp).cwiseAbs().maxCoeff(), 0.0);
+      if (step == 0 && p == 0) {
+        EXPECT_GT((alone - fp).cwiseAbs().maxCoeff(), 0.0);
+      }
     }
   }
   EXPECT_GT(ghost_pairs, 100) << "the test must exercise pairs across processes";
