@@ -299,7 +299,8 @@ bool ImmersedBoundary::interpolate_unseparable(const double* p, const double* co
 
 // Peskin 4 at positions other than the last spread's (held steps move the markers between
 // spreads): the axis weights SIMD across batches of markers as spreading computes them (the
-// footprints of footprint<4>(), bit for bit), 2.3x cheaper than one marker at a time. The batches
+// footprints of footprint<4>(), bit for bit; the interpolation 1.6x cheaper on one thread, docs/
+// performance.md, "Held steps interpolate with batched footprints"). The batches
 // follow the last spread's order when it holds the same markers: they have moved a small part of
 // a spacing since, so neighbours in memory are still neighbours in the lattice, and each marker's
 // velocity does not depend on the order, so no new sort is needed.
