@@ -123,42 +123,12 @@ void ViscosityContrast::update(std::span<const double> positions, RelaxationFiel
   }
 }
 
-// Marks the triangles whose x-y extent contains a column centre (i + 1/2, j + 1/2): only those
-// can cross a column (a lattice-free test, one SIMD lane per triangle; the others are most of a
-// fine mesh). When the folded cell reaches beyond the box, every triangle is a candidate.
-void ViscosityContrast::mark_candidates(const std::uint32_t* tris, std::size_t faces,
-                                        Workspace& w) const {
-  const double* X = w.folded.data();
-  const std::size_t nodes = w.folded.size() / 3;
-  double lo = X[0], hi = X[0];
-  for (std::size_t m = 0; m < nodes; ++m) {
-    lo = std::min(lo, X[3 * m]);
-    hi = std::max(hi, X[3 * m]);
-  }
-  w.candidate.assign(faces, 1);
-  if (!(lo >= 0.0 && hi < lattice_.domain().nx)) {
-    return;  // in two boxes: each triangle is tested per box in rasterise_cell
-  }
-  std::uint8_t* c = w.candidate.data();
-#pragma omp simd
-  for (std::size_t f = 0; f < faces; ++f) {
-    const double* a = X + 3 * std::size_t{tris[3 * f]};
-    const double* b = X + 3 * std::size_t{tris[3 * f + 1]};
-    const double* e = X + 3 * std::size_t{tris[3 * f + 2]};
-    const double xmin = std::min(a[0], std::min(b[0], e[0]));
-    const double xmax = std::max(a[0], std::max(b[0], e[0]));
-    const double ymin = std::min(a[1], std::min(b[1], e[1]));
-    const double ymax = std::max(a[1], std::max(b[1], e[1]));
-    c[f] = std::ceil(xmin - 0.5) <= std::floor(xmax - 0.5) &&
-                   std::ceil(ymin - 0.5) <= std::floor(ymax - 0.5)
-               ? 1
-               : 0;
-  }
-}
-
 // Folds the cell into the box as one piece (by its mean x, so it is never torn apart), then
-// rasterises each triangle in every box frame its x extent reaches: columns beyond x = nx belong
-// to the next box, whose frame is lower by the shift (as in ImmersedBoundary::stencil).
+// rasterises its triangles. A cell inside one box (most of them) is classified first, SIMD across
+// triangles: most triangles of a fine mesh cover no column centre or exactly one, whose crossing
+// comes from that pass; the others (and every triangle of a cell across the x face) take
+// rasterise_triangle(). Triangles are visited in mesh order either way, so the crossings are the
+// same numbers in the same order as the triangle-by-triangle walk gives.
 void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Workspace& w) const {
   const Domain& d = lattice_.domain();
   const std::size_t n = cell_nodes_[cell];
@@ -168,75 +138,167 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
   }
   const double wraps = std::floor(mean_x / static_cast<double>(n) / d.nx);
   w.folded.resize(3 * n);
+  double lo = x[0] - wraps * d.nx, hi = lo;
   for (std::size_t m = 0; m < n; ++m) {
     w.folded[3 * m] = x[3 * m] - wraps * d.nx;
     w.folded[3 * m + 1] = x[3 * m + 1] - wraps * d.shift;
     w.folded[3 * m + 2] = x[3 * m + 2];
+    lo = std::min(lo, w.folded[3 * m]);
+    hi = std::max(hi, w.folded[3 * m]);
   }
   w.crossings.clear();
-  const double inv_nx = 1.0 / d.nx;
   const std::size_t faces = cell_faces_[cell];
   const std::uint32_t* tris = faces_.data() + 3 * first_face_[cell];
-  mark_candidates(tris, faces, w);
+  if (!(lo >= 0.0 && hi < d.nx)) {
+    for (std::size_t f = 0; f < faces; ++f) {
+      rasterise_triangle(tris + 3 * f, w);
+    }
+    return;
+  }
+  classify_triangles(tris, faces, w);
   for (std::size_t f = 0; f < faces; ++f) {
-    if (!w.candidate[f]) {
+    if (w.kind[f] == kOneCrossing) {
+      push_crossing(w.hit_i[f], w.hit_j[f], w.hit_z[f], w);
+    } else if (w.kind[f] == kRasterise) {
+      rasterise_triangle(tris + 3 * f, w);
+    }
+  }
+}
+
+namespace {
+/// edge() on coordinates and node ids held apart (for the SIMD loop of classify_triangles).
+inline double edge_of(double ax, double ay, double aid, double bx, double by, double bid, double px,
+                      double py) {
+  const bool a_lo = aid < bid;
+  const double lx = a_lo ? ax : bx, ly = a_lo ? ay : by;
+  const double hx = a_lo ? bx : ax, hy = a_lo ? by : ay;
+  const double e = (hx - lx) * (py - ly) - (hy - ly) * (px - lx);
+  return a_lo ? e : -e;
+}
+// owns_ties() and covers() without short-circuits (which would be branches in the SIMD loop).
+inline bool owns_ties_of(double ax, double ay, double bx, double by) {
+  const double dx = bx - ax, dy = by - ay;
+  return (dy < 0.0) | ((dy == 0.0) & (dx > 0.0));
+}
+inline bool covers_of(double e, bool ties) {
+  return (e > 0.0) | ((e == 0.0) & ties);
+}
+}  // namespace
+
+// For a cell inside one box: per triangle, whether its x-y extent holds no column centre, one
+// (then the crossing, if the triangle covers it, with rasterise_triangle()'s arithmetic step for
+// step: the same orientation swap, tie rules and interpolation), or more (kRasterise).
+void ViscosityContrast::classify_triangles(const std::uint32_t* tris, std::size_t faces,
+                                           Workspace& w) const {
+  const double* X = w.folded.data();
+  w.kind.resize(faces);
+  w.hit_i.resize(faces);
+  w.hit_j.resize(faces);
+  w.hit_z.resize(faces);
+  std::uint8_t* kind = w.kind.data();
+  std::int32_t* hit_i = w.hit_i.data();
+  std::int32_t* hit_j = w.hit_j.data();
+  double* hit_z = w.hit_z.data();
+#pragma omp simd
+  for (std::size_t f = 0; f < faces; ++f) {
+    const std::uint32_t id0 = tris[3 * f], id1 = tris[3 * f + 1], id2 = tris[3 * f + 2];
+    // 32-bit offsets: GCC 12 gathers with them, not with zero-extended 64-bit ones (a cell has
+    // far fewer than 2^31 / 3 nodes).
+    const auto a = 3 * static_cast<std::int32_t>(id0), b = 3 * static_cast<std::int32_t>(id1),
+               c = 3 * static_cast<std::int32_t>(id2);
+    const double x0 = X[a], y0 = X[a + 1], z0 = X[a + 2], x1 = X[b], y1 = X[b + 1], z1 = X[b + 2];
+    const double x2 = X[c], y2 = X[c + 1], z2 = X[c + 2];
+    // Node ids as doubles (exact below 2^53): every lane of the loop is then one double.
+    const double n0 = id0, n1 = id1, n2 = id2;
+    const double i0 = std::ceil(std::min(x0, std::min(x1, x2)) - 0.5);
+    const double i1 = std::floor(std::max(x0, std::max(x1, x2)) - 0.5);
+    const double j0 = std::ceil(std::min(y0, std::min(y1, y2)) - 0.5);
+    const double j1 = std::floor(std::max(y0, std::max(y1, y2)) - 0.5);
+    const double px = i0 + 0.5, py = j0 + 0.5;
+    // Counter-clockwise: vertices 1 and 2 (coordinates, ids, heights) swapped when clockwise.
+    const double area = edge_of(x0, y0, n0, x1, y1, n1, x2, y2);
+    const bool cw = area < 0.0;
+    const double ax = cw ? x2 : x1, ay = cw ? y2 : y1, az = cw ? z2 : z1;
+    const double bx = cw ? x1 : x2, by = cw ? y1 : y2, bz = cw ? z1 : z2;
+    const double an = cw ? n2 : n1, bn = cw ? n1 : n2;
+    const double e0 = edge_of(ax, ay, an, bx, by, bn, px, py);
+    const double e1 = edge_of(bx, by, bn, x0, y0, n0, px, py);
+    const double e2 = edge_of(x0, y0, n0, ax, ay, an, px, py);
+    const bool hit = (area != 0.0) & covers_of(e0, owns_ties_of(ax, ay, bx, by)) &
+                     covers_of(e1, owns_ties_of(bx, by, x0, y0)) &
+                     covers_of(e2, owns_ties_of(x0, y0, ax, ay));
+    const bool none = (i0 > i1) | (j0 > j1), one = (i0 == i1) & (j0 == j1);
+    const int k = one & hit ? kOneCrossing : kNoCrossing;
+    kind[f] = static_cast<std::uint8_t>(none ? kNoCrossing : (one ? k : kRasterise));
+    hit_i[f] = static_cast<std::int32_t>(i0);
+    hit_j[f] = static_cast<std::int32_t>(j0);
+    hit_z[f] = (e0 * z0 + e1 * az + e2 * bz) / (e0 + e1 + e2);
+  }
+}
+
+void ViscosityContrast::push_crossing(int i, int j, double z, Workspace& w) const {
+  const Domain& d = lattice_.domain();
+  // y is periodic; a cell is never more than a box away in y, so no modulo is needed.
+  int jw = j < 0 ? j + d.ny : (j >= d.ny ? j - d.ny : j);
+  if (jw < 0 || jw >= d.ny) {
+    jw = ((j % d.ny) + d.ny) % d.ny;
+  }
+  w.crossings.push_back(
+      {(static_cast<std::uint64_t>(jw) << 32) | static_cast<std::uint32_t>(i), z});
+}
+
+// One triangle (node indices into w.folded) in every box frame its x extent reaches: columns
+// beyond x = nx belong to the next box, whose frame is lower by the shift (as in
+// ImmersedBoundary::stencil).
+void ViscosityContrast::rasterise_triangle(const std::uint32_t* tri, Workspace& w) const {
+  const Domain& d = lattice_.domain();
+  const double inv_nx = 1.0 / d.nx;
+  const double* v[3] = {&w.folded[3 * std::size_t{tri[0]}], &w.folded[3 * std::size_t{tri[1]}],
+                        &w.folded[3 * std::size_t{tri[2]}]};
+  const double xmin = std::min({v[0][0], v[1][0], v[2][0]});
+  const double xmax = std::max({v[0][0], v[1][0], v[2][0]});
+  // The boxes the x extent reaches, without integer divisions: a box that rounding adds or
+  // drops is met only within round-off of its edge, 1/2 away from its first column centre, so
+  // it has no crossing either way.
+  const int box_hi = static_cast<int>(std::floor(xmax * inv_nx));
+  for (int box = static_cast<int>(std::floor(xmin * inv_nx)); box <= box_hi; ++box) {
+    P2 p[3];
+    for (int q = 0; q < 3; ++q) {
+      p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
+    }
+    const int i0 = std::max(0, static_cast<int>(std::ceil(xmin - box * d.nx - 0.5)));
+    const int i1 = std::min(d.nx - 1, static_cast<int>(std::floor(xmax - box * d.nx - 0.5)));
+    const double ymin = std::min({p[0].y, p[1].y, p[2].y});
+    const double ymax = std::max({p[0].y, p[1].y, p[2].y});
+    const int j0 = static_cast<int>(std::ceil(ymin - 0.5));
+    const int j1 = static_cast<int>(std::floor(ymax - 0.5));
+    // Most triangles of a fine mesh cover no column centre: nothing to rasterise.
+    if (i0 > i1 || j0 > j1) {
       continue;
     }
-    const std::uint32_t* tri = tris + 3 * f;
-    const double* v[3] = {&w.folded[3 * std::size_t{tri[0]}], &w.folded[3 * std::size_t{tri[1]}],
-                          &w.folded[3 * std::size_t{tri[2]}]};
-    const double xmin = std::min({v[0][0], v[1][0], v[2][0]});
-    const double xmax = std::max({v[0][0], v[1][0], v[2][0]});
-    // The boxes the x extent reaches, without integer divisions: a box that rounding adds or
-    // drops is met only within round-off of its edge, 1/2 away from its first column centre, so
-    // it has no crossing either way.
-    const int box_hi = static_cast<int>(std::floor(xmax * inv_nx));
-    for (int box = static_cast<int>(std::floor(xmin * inv_nx)); box <= box_hi; ++box) {
-      P2 p[3];
-      for (int q = 0; q < 3; ++q) {
-        p[q] = {v[q][0] - box * d.nx, v[q][1] - box * d.shift, tri[q]};
-      }
-      const int i0 = std::max(0, static_cast<int>(std::ceil(xmin - box * d.nx - 0.5)));
-      const int i1 = std::min(d.nx - 1, static_cast<int>(std::floor(xmax - box * d.nx - 0.5)));
-      const double ymin = std::min({p[0].y, p[1].y, p[2].y});
-      const double ymax = std::max({p[0].y, p[1].y, p[2].y});
-      const int j0 = static_cast<int>(std::ceil(ymin - 0.5));
-      const int j1 = static_cast<int>(std::floor(ymax - 0.5));
-      // Most triangles of a fine mesh cover no column centre: nothing to rasterise.
-      if (i0 > i1 || j0 > j1) {
-        continue;
-      }
-      double z[3] = {v[0][2], v[1][2], v[2][2]};
-      // Counter-clockwise in the x-y projection; an edge-on triangle crosses no column.
-      const double area = edge(p[0], p[1], p[2].x, p[2].y);
-      if (area == 0.0) {
-        continue;
-      }
-      if (area < 0.0) {
-        std::swap(p[1], p[2]);
-        std::swap(z[1], z[2]);
-      }
-      const bool tie01 = owns_ties(p[0], p[1]), tie12 = owns_ties(p[1], p[2]),
-                 tie20 = owns_ties(p[2], p[0]);
-      for (int i = i0; i <= i1; ++i) {
-        const double px = i + 0.5;
-        for (int j = j0; j <= j1; ++j) {
-          const double py = j + 0.5;
-          const double e0 = edge(p[1], p[2], px, py);  // weight of vertex 0
-          const double e1 = edge(p[2], p[0], px, py);
-          const double e2 = edge(p[0], p[1], px, py);
-          if (!covers(e0, tie12) || !covers(e1, tie20) || !covers(e2, tie01)) {
-            continue;
-          }
-          const double zc = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / (e0 + e1 + e2);
-          // y is periodic; a cell is never more than a box away in y, so no modulo is needed.
-          int jw = j < 0 ? j + d.ny : (j >= d.ny ? j - d.ny : j);
-          if (jw < 0 || jw >= d.ny) {
-            jw = ((j % d.ny) + d.ny) % d.ny;
-          }
-          w.crossings.push_back(
-              {(static_cast<std::uint64_t>(jw) << 32) | static_cast<std::uint32_t>(i), zc});
+    double z[3] = {v[0][2], v[1][2], v[2][2]};
+    // Counter-clockwise in the x-y projection; an edge-on triangle crosses no column.
+    const double area = edge(p[0], p[1], p[2].x, p[2].y);
+    if (area == 0.0) {
+      continue;
+    }
+    if (area < 0.0) {
+      std::swap(p[1], p[2]);
+      std::swap(z[1], z[2]);
+    }
+    const bool tie01 = owns_ties(p[0], p[1]), tie12 = owns_ties(p[1], p[2]),
+               tie20 = owns_ties(p[2], p[0]);
+    for (int i = i0; i <= i1; ++i) {
+      const double px = i + 0.5;
+      for (int j = j0; j <= j1; ++j) {
+        const double py = j + 0.5;
+        const double e0 = edge(p[1], p[2], px, py);  // weight of vertex 0
+        const double e1 = edge(p[2], p[0], px, py);
+        const double e2 = edge(p[0], p[1], px, py);
+        if (!covers(e0, tie12) || !covers(e1, tie20) || !covers(e2, tie01)) {
+          continue;
         }
+        push_crossing(i, j, (e0 * z[0] + e1 * z[1] + e2 * z[2]) / (e0 + e1 + e2), w);
       }
     }
   }

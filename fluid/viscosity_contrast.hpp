@@ -52,16 +52,21 @@ class ViscosityContrast {
   };
   /// One thread's buffers: cells are independent, so each thread takes whole cells.
   struct Workspace {
-    std::vector<double> folded;           ///< one cell's markers folded into the box frame
-    std::vector<Crossing> crossings;      ///< one cell's crossings
-    std::vector<std::size_t> inside;      ///< nodes inside this thread's cells
-    std::vector<std::uint8_t> candidate;  ///< per triangle of the cell: may cross a column
-    std::vector<Crossing> sorted;         ///< sort_crossings' buffer
-    std::vector<std::size_t> bin_start;   ///< sort_crossings' bins
+    std::vector<double> folded;              ///< one cell's markers folded into the box frame
+    std::vector<Crossing> crossings;         ///< one cell's crossings
+    std::vector<std::size_t> inside;         ///< nodes inside this thread's cells
+    std::vector<std::uint8_t> kind;          ///< per triangle of the cell: classify_triangles()
+    std::vector<std::int32_t> hit_i, hit_j;  ///< its column centre when it may cover only one
+    std::vector<double> hit_z;               ///< and the crossing's height there
+    std::vector<Crossing> sorted;            ///< sort_crossings' buffer
+    std::vector<std::size_t> bin_start;      ///< sort_crossings' bins
     std::size_t unpaired = 0;
   };
   void rasterise_cell(const double* x, std::size_t cell, Workspace& w) const;
-  void mark_candidates(const std::uint32_t* tris, std::size_t faces, Workspace& w) const;
+  enum : std::uint8_t { kNoCrossing, kOneCrossing, kRasterise };
+  void classify_triangles(const std::uint32_t* tris, std::size_t faces, Workspace& w) const;
+  void rasterise_triangle(const std::uint32_t* tri, Workspace& w) const;
+  void push_crossing(int i, int j, double z, Workspace& w) const;
   void sort_crossings(Workspace& w) const;
   void fill_cell(Workspace& w) const;
 
