@@ -4,6 +4,7 @@
 // analytic ball, across the shifted periodic faces, as the cell moves, and on tie columns.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -190,6 +191,39 @@ TEST(ViscosityContrast, ColumnsThroughVerticesAndEdgesCountOneCrossing) {
       const bool in = std::abs(k + 0.5 - c[2]) < h;
       EXPECT_EQ(tau.tau(L.index(10, 10, k)), in ? 3.0 : 1.0)
           << "k " << k << ", " << subdivisions << " subdivisions";
+    }
+  }
+}
+
+TEST(ViscosityContrast, CellAcrossTheXFaceGetsTheFieldOfTheSameCellInside) {
+  // A cell inside the box is classified triangle-parallel; one across the x face is walked
+  // triangle by triangle. With coordinates on a 2^-12 grid, moving the cell by whole nodes moves
+  // every edge function and crossing height exactly, so the two paths must give the same nodes,
+  // moved: 9 nodes in x (no shift, so x wraps alone), across the vertex and edge ties of
+  // icospheres centred on column centres and lattice nodes.
+  const Domain d = box(0.0, true);
+  const Lattice L(d);
+  for (const double cy : {10.0, 10.5, 9.73}) {
+    for (const int subdivisions : {1, 2, 3}) {
+      Sphere across = sphere(1.5, cy, 8.0, 5.0, subdivisions);
+      for (double& v : across.x) v = std::round(v * 4096.0) / 4096.0;
+      Sphere inside = across;
+      for (std::size_t m = 0; m < inside.x.size(); m += 3) inside.x[m] += 9.0;
+      RelaxationField tau(L.padded_size(), 1.0, &Trt::rates, 3.0 / 16.0, false);
+      ViscosityContrast a(L, 1.0, 3.0, across.nodes, across.faces, across.face_ids);
+      ViscosityContrast b(L, 1.0, 3.0, inside.nodes, inside.faces, inside.face_ids);
+      a.update(across.x, tau);
+      b.update(inside.x, tau);
+      std::set<std::size_t> moved;
+      for (int k = 0; k < d.nz; ++k)
+        for (int j = 0; j < d.ny; ++j)
+          for (int i = 0; i < d.nx; ++i)
+            if (std::count(a.inside_nodes().begin(), a.inside_nodes().end(), L.index(i, j, k)))
+              moved.insert(L.index((i + 9) % d.nx, j, k));
+      const std::set<std::size_t> got(b.inside_nodes().begin(), b.inside_nodes().end());
+      EXPECT_GT(moved.size(), 300u);
+      EXPECT_EQ(got, moved) << "y " << cy << ", " << subdivisions << " subdivisions";
+      EXPECT_EQ(a.unpaired_columns() + b.unpaired_columns(), 0u);
     }
   }
 }
