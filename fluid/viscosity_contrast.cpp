@@ -124,11 +124,11 @@ void ViscosityContrast::update(std::span<const double> positions, RelaxationFiel
 }
 
 // Folds the cell into the box as one piece (by its mean x, so it is never torn apart), then
-// rasterises its triangles. A cell inside one box (most of them) is classified first, SIMD across
-// triangles: most triangles of a fine mesh cover no column centre or exactly one, whose crossing
-// comes from that pass; the others (and every triangle of a cell across the x face) take
-// rasterise_triangle(). Triangles are visited in mesh order either way, so the crossings are the
-// same numbers in the same order as the triangle-by-triangle walk gives.
+// rasterises its triangles. They are classified first, SIMD across triangles: most triangles of a
+// fine mesh cover no column centre or exactly one, whose crossing comes from that pass; the others
+// (and those reaching past an x face of the box) take rasterise_triangle(). Triangles are visited
+// in mesh order either way, so the crossings are the same numbers in the same order as the
+// triangle-by-triangle walk gives.
 void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Workspace& w) const {
   const Domain& d = lattice_.domain();
   const std::size_t n = cell_nodes_[cell];
@@ -138,23 +138,14 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
   }
   const double wraps = std::floor(mean_x / static_cast<double>(n) / d.nx);
   w.folded.resize(3 * n);
-  double lo = x[0] - wraps * d.nx, hi = lo;
   for (std::size_t m = 0; m < n; ++m) {
     w.folded[3 * m] = x[3 * m] - wraps * d.nx;
     w.folded[3 * m + 1] = x[3 * m + 1] - wraps * d.shift;
     w.folded[3 * m + 2] = x[3 * m + 2];
-    lo = std::min(lo, w.folded[3 * m]);
-    hi = std::max(hi, w.folded[3 * m]);
   }
   w.crossings.clear();
   const std::size_t faces = cell_faces_[cell];
   const std::uint32_t* tris = faces_.data() + 3 * first_face_[cell];
-  if (!(lo >= 0.0 && hi < d.nx)) {
-    for (std::size_t f = 0; f < faces; ++f) {
-      rasterise_triangle(tris + 3 * f, w);
-    }
-    return;
-  }
   classify_triangles(tris, faces, w);
   for (std::size_t f = 0; f < faces; ++f) {
     if (w.kind[f] == kOneCrossing) {
@@ -185,12 +176,14 @@ inline bool covers_of(double e, bool ties) {
 }
 }  // namespace
 
-// For a cell inside one box: per triangle, whether its x-y extent holds no column centre, one
-// (then the crossing, if the triangle covers it, with rasterise_triangle()'s arithmetic step for
-// step: the same orientation swap, tie rules and interpolation), or more (kRasterise).
+// Per triangle inside the box in x (the walk's box 0): whether its x-y extent holds no column
+// centre, one (then the crossing, if the triangle covers it, with rasterise_triangle()'s
+// arithmetic step for step: the same orientation swap, tie rules and interpolation), or more;
+// kRasterise for more and for triangles reaching past an x face.
 void ViscosityContrast::classify_triangles(const std::uint32_t* tris, std::size_t faces,
                                            Workspace& w) const {
   const double* X = w.folded.data();
+  const auto nx = static_cast<double>(lattice_.domain().nx);
   w.kind.resize(faces);
   w.hit_i.resize(faces);
   w.hit_j.resize(faces);
@@ -210,8 +203,8 @@ void ViscosityContrast::classify_triangles(const std::uint32_t* tris, std::size_
     const double x2 = X[c], y2 = X[c + 1], z2 = X[c + 2];
     // Node ids as doubles (exact below 2^53): every lane of the loop is then one double.
     const double n0 = id0, n1 = id1, n2 = id2;
-    const double i0 = std::ceil(std::min(x0, std::min(x1, x2)) - 0.5);
-    const double i1 = std::floor(std::max(x0, std::max(x1, x2)) - 0.5);
+    const double xmin = std::min(x0, std::min(x1, x2)), xmax = std::max(x0, std::max(x1, x2));
+    const double i0 = std::ceil(xmin - 0.5), i1 = std::floor(xmax - 0.5);
     const double j0 = std::ceil(std::min(y0, std::min(y1, y2)) - 0.5);
     const double j1 = std::floor(std::max(y0, std::max(y1, y2)) - 0.5);
     const double px = i0 + 0.5, py = j0 + 0.5;
@@ -227,9 +220,12 @@ void ViscosityContrast::classify_triangles(const std::uint32_t* tris, std::size_
     const bool hit = (area != 0.0) & covers_of(e0, owns_ties_of(ax, ay, bx, by)) &
                      covers_of(e1, owns_ties_of(bx, by, x0, y0)) &
                      covers_of(e2, owns_ties_of(x0, y0, ax, ay));
+    // A triangle reaching past the box's x faces is walked box by box (not NaN-safe otherwise).
+    const bool in_box = (xmin >= 0.0) & (xmax < nx);
     const bool none = (i0 > i1) | (j0 > j1), one = (i0 == i1) & (j0 == j1);
     const int k = one & hit ? kOneCrossing : kNoCrossing;
-    kind[f] = static_cast<std::uint8_t>(none ? kNoCrossing : (one ? k : kRasterise));
+    kind[f] = static_cast<std::uint8_t>(!in_box ? kRasterise
+                                                : (none ? kNoCrossing : (one ? k : kRasterise)));
     hit_i[f] = static_cast<std::int32_t>(i0);
     hit_j[f] = static_cast<std::int32_t>(j0);
     hit_z[f] = (e0 * z0 + e1 * az + e2 * bz) / (e0 + e1 + e2);

@@ -196,11 +196,11 @@ TEST(ViscosityContrast, ColumnsThroughVerticesAndEdgesCountOneCrossing) {
 }
 
 TEST(ViscosityContrast, CellAcrossTheXFaceGetsTheFieldOfTheSameCellInside) {
-  // A cell inside the box is classified triangle-parallel; one across the x face is walked
-  // triangle by triangle. With coordinates on a 2^-12 grid, moving the cell by whole nodes moves
-  // every edge function and crossing height exactly, so the two paths must give the same nodes,
-  // moved: 9 nodes in x (no shift, so x wraps alone), across the vertex and edge ties of
-  // icospheres centred on column centres and lattice nodes.
+  // A cell inside the box is classified triangle-parallel; the triangles of one across the x face
+  // that reach past it are walked box by box. With coordinates on a 2^-12 grid, moving the cell by
+  // whole nodes moves every edge function and crossing height exactly, so the two paths must give
+  // the same nodes, moved: 9 nodes in x (no shift, so x wraps alone), across the vertex and edge
+  // ties of icospheres centred on column centres and lattice nodes.
   const Domain d = box(0.0, true);
   const Lattice L(d);
   for (const double cy : {10.0, 10.5, 9.73}) {
