@@ -20,11 +20,15 @@ struct P2 {
 /// Edge function of edge a -> b at p, evaluated with the endpoints in canonical order (lower node
 /// index first) and negated back: the two triangles of an edge get exactly opposite numbers, and
 /// a column through a vertex gets exactly 0 (the file is built without fused multiply-add).
-double edge(const P2& a, const P2& b, double px, double py) {
-  const P2& lo = a.id < b.id ? a : b;
-  const P2& hi = a.id < b.id ? b : a;
-  const double e = (hi.x - lo.x) * (py - lo.y) - (hi.y - lo.y) * (px - lo.x);
-  return a.id < b.id ? e : -e;
+/// Coordinates and node ids held apart, ids as doubles (exact below 2^53), so that the SIMD loop
+/// of classify_triangles has one double per lane; no branches.
+inline double edge_of(double ax, double ay, double aid, double bx, double by, double bid, double px,
+                      double py) {
+  const bool a_lo = aid < bid;
+  const double lx = a_lo ? ax : bx, ly = a_lo ? ay : by;
+  const double hx = a_lo ? bx : ax, hy = a_lo ? by : ay;
+  const double e = (hx - lx) * (py - ly) - (hy - ly) * (px - lx);
+  return a_lo ? e : -e;
 }
 
 /// Whether a column exactly on edge a -> b of a counter-clockwise triangle counts as inside it:
@@ -32,14 +36,22 @@ double edge(const P2& a, const P2& b, double px, double py) {
 /// Edelsbrunner & Muecke 1990, ACM TOG 9:66). The edge function then grows by
 /// -(b.y - a.y) eps + (b.x - a.x) eps^2. The moved column is a generic point, so a closed surface
 /// crosses it an even number of times: ties on shared edges, at vertices and on the silhouette
-/// (where the ray grazes the surface) all pair up.
-bool owns_ties(const P2& a, const P2& b) {
-  const double dx = b.x - a.x, dy = b.y - a.y;
-  return dy < 0.0 || (dy == 0.0 && dx > 0.0);
+/// (where the ray grazes the surface) all pair up. (Bitwise operators: no branches.)
+inline bool owns_ties_of(double ax, double ay, double bx, double by) {
+  const double dx = bx - ax, dy = by - ay;
+  return (dy < 0.0) | ((dy == 0.0) & (dx > 0.0));
 }
 
-bool covers(double e, bool ties) {
-  return e > 0.0 || (e == 0.0 && ties);
+inline bool covers(double e, bool ties) {
+  return (e > 0.0) | ((e == 0.0) & ties);
+}
+
+// The same on the triangle walk's points.
+double edge(const P2& a, const P2& b, double px, double py) {
+  return edge_of(a.x, a.y, a.id, b.x, b.y, b.id, px, py);
+}
+bool owns_ties(const P2& a, const P2& b) {
+  return owns_ties_of(a.x, a.y, b.x, b.y);
 }
 
 }  // namespace
@@ -156,26 +168,6 @@ void ViscosityContrast::rasterise_cell(const double* x, std::size_t cell, Worksp
   }
 }
 
-namespace {
-/// edge() on coordinates and node ids held apart (for the SIMD loop of classify_triangles).
-inline double edge_of(double ax, double ay, double aid, double bx, double by, double bid, double px,
-                      double py) {
-  const bool a_lo = aid < bid;
-  const double lx = a_lo ? ax : bx, ly = a_lo ? ay : by;
-  const double hx = a_lo ? bx : ax, hy = a_lo ? by : ay;
-  const double e = (hx - lx) * (py - ly) - (hy - ly) * (px - lx);
-  return a_lo ? e : -e;
-}
-// owns_ties() and covers() without short-circuits (which would be branches in the SIMD loop).
-inline bool owns_ties_of(double ax, double ay, double bx, double by) {
-  const double dx = bx - ax, dy = by - ay;
-  return (dy < 0.0) | ((dy == 0.0) & (dx > 0.0));
-}
-inline bool covers_of(double e, bool ties) {
-  return (e > 0.0) | ((e == 0.0) & ties);
-}
-}  // namespace
-
 // Per triangle inside the box in x (the walk's box 0): whether its x-y extent holds no column
 // centre, one (then the crossing, if the triangle covers it, with rasterise_triangle()'s
 // arithmetic step for step: the same orientation swap, tie rules and interpolation), or more;
@@ -217,9 +209,9 @@ void ViscosityContrast::classify_triangles(const std::uint32_t* tris, std::size_
     const double e0 = edge_of(ax, ay, an, bx, by, bn, px, py);
     const double e1 = edge_of(bx, by, bn, x0, y0, n0, px, py);
     const double e2 = edge_of(x0, y0, n0, ax, ay, an, px, py);
-    const bool hit = (area != 0.0) & covers_of(e0, owns_ties_of(ax, ay, bx, by)) &
-                     covers_of(e1, owns_ties_of(bx, by, x0, y0)) &
-                     covers_of(e2, owns_ties_of(x0, y0, ax, ay));
+    const bool hit = (area != 0.0) & covers(e0, owns_ties_of(ax, ay, bx, by)) &
+                     covers(e1, owns_ties_of(bx, by, x0, y0)) &
+                     covers(e2, owns_ties_of(x0, y0, ax, ay));
     // A triangle reaching past the box's x faces is walked box by box (not NaN-safe otherwise).
     const bool in_box = (xmin >= 0.0) & (xmax < nx);
     const bool none = (i0 > i1) | (j0 > j1), one = (i0 == i1) & (j0 == j1);
