@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -14,23 +15,21 @@ namespace dld::membrane {
 namespace {
 const double kSqrt3 = std::sqrt(3.0);
 
-/// Forces on the four nodes of one hinge (12 values, nodes a, b, c, d) and its deviation from the
-/// rest angle. The deviation is the angle of (x, y) = r (cos theta, sin theta) rotated by -theta0.
-/// A membrane bends little per hinge, so that angle is small: with |tan| <= 1/4 it is the Taylor
-/// series of atan (to t^25, truncation below 1e-17 relative), a division and a polynomial that
-/// vectorise, instead of an atan2 (42 of the 115 ns a hinge took). With kSmallOnly a larger
-/// deviation returns false and leaves the slots unset (the caller redoes that hinge); otherwise
-/// it takes atan2 as before. Both agree to round-off.
+/// Forces on the four nodes of one hinge (12 values, nodes a, b, c, d at the 32-bit offsets
+/// `corner` into X) and its deviation from the rest angle, the angle of (x, y) = r (cos theta,
+/// sin theta) rotated by -theta0. A membrane bends little per hinge, so that angle is small: with
+/// |tan| <= 1/4 it is the Taylor series of atan (to t^25, truncation below 1e-17 relative), a
+/// division and a polynomial that vectorise, instead of an atan2 (42 of the 115 ns a hinge took).
+/// With kSmallOnly a larger deviation counts as zero (slots written with zero forces) and the
+/// return value is false: the caller redoes that hinge. Otherwise it takes atan2 there. Both agree
+/// to round-off. Branch-free (selects, not jumps), so that GCC vectorises the kSmallOnly loop.
 template <bool kSmallOnly>
-inline bool hinge_forces(const Hinge& h, double theta0, double c0, double s0, const double* X,
-                         Eigen::Index stride, double k2, double* slot, double& dt) {
-  const double* pa = X + h.a * stride;
-  const double* pb = X + h.b * stride;
-  const double* pc = X + h.c * stride;
-  const double* pd = X + h.d * stride;
-  const double e[3] = {pb[0] - pa[0], pb[1] - pa[1], pb[2] - pa[2]};
-  const double ca[3] = {pc[0] - pa[0], pc[1] - pa[1], pc[2] - pa[2]};
-  const double da[3] = {pd[0] - pa[0], pd[1] - pa[1], pd[2] - pa[2]};
+inline bool hinge_forces(const int* corner, double theta0, double c0, double s0, const double* X,
+                         double k2, double* slot, double& dt) {
+  const int a = corner[0], b = corner[1], c = corner[2], d = corner[3];
+  const double e[3] = {X[b] - X[a], X[b + 1] - X[a + 1], X[b + 2] - X[a + 2]};
+  const double ca[3] = {X[c] - X[a], X[c + 1] - X[a + 1], X[c + 2] - X[a + 2]};
+  const double da[3] = {X[d] - X[a], X[d + 1] - X[a + 1], X[d + 2] - X[a + 2]};
   const double n1[3] = {e[1] * ca[2] - e[2] * ca[1], e[2] * ca[0] - e[0] * ca[2],
                         e[0] * ca[1] - e[1] * ca[0]};  // face a-b-c
   const double n2[3] = {da[1] * e[2] - da[2] * e[1], da[2] * e[0] - da[0] * e[2],
@@ -43,20 +42,17 @@ inline bool hinge_forces(const Hinge& h, double theta0, double c0, double s0, co
   const double y = m[0] * e[0] + m[1] * e[1] + m[2] * e[2];
   const double x = (n1[0] * n2[0] + n1[1] * n2[1] + n1[2] * n2[2]) * le;
   const double sn = y * c0 - x * s0, cs = x * c0 + y * s0;
-  const bool small = cs > 0.0 && 4.0 * std::abs(sn) <= cs;
-  if (small) {
-    const double t = sn / cs, t2 = t * t;
-    constexpr double c[13] = {1.0,       -1.0 / 3,  1.0 / 5,   -1.0 / 7, 1.0 / 9,
-                              -1.0 / 11, 1.0 / 13,  -1.0 / 15, 1.0 / 17, -1.0 / 19,
-                              1.0 / 21,  -1.0 / 23, 1.0 / 25};  // atan t = t sum c_n t^2n
-    double p = c[12];
-    for (int q = 11; q >= 0; --q) p = c[q] + t2 * p;
-    dt = t * p;
-  } else if (kSmallOnly) {
-    dt = 0.0;
-    return false;
+  const bool small = (cs > 0.0) & (4.0 * std::abs(sn) <= cs);            // & : no branch
+  const double t = (small ? sn : 0.0) / (small ? cs : 1.0), t2 = t * t;  // sn / cs if small
+  constexpr double cn[13] = {1.0,       -1.0 / 3,  1.0 / 5,   -1.0 / 7, 1.0 / 9,
+                             -1.0 / 11, 1.0 / 13,  -1.0 / 15, 1.0 / 17, -1.0 / 19,
+                             1.0 / 21,  -1.0 / 23, 1.0 / 25};  // atan t = t sum c_n t^2n
+  double p = cn[12];
+  for (int q = 11; q >= 0; --q) p = cn[q] + t2 * p;
+  if constexpr (kSmallOnly) {
+    dt = small ? t * p : 0.0;
   } else {
-    dt = std::atan2(y, x) - theta0;
+    dt = small ? t * p : std::atan2(y, x) - theta0;
   }
   // Gradient of theta (Bridson et al. 2003): wing nodes along their face normals, edge nodes
   // such that the four gradients sum to zero and carry no torque. (c - b).e = (c - a).e - |e|^2.
@@ -65,14 +61,14 @@ inline bool hinge_forces(const Hinge& h, double theta0, double c0, double s0, co
   const double s2 = scale / (n2[0] * n2[0] + n2[1] * n2[1] + n2[2] * n2[2]);
   const double pcv = (ca[0] * e[0] + ca[1] * e[1] + ca[2] * e[2]) * inv_le;
   const double pdv = (da[0] * e[0] + da[1] * e[1] + da[2] * e[2]) * inv_le;
-  for (int a = 0; a < 3; ++a) {
-    const double u1 = s1 * n1[a], u2 = s2 * n2[a];
-    slot[a] = -((pcv - le) * u1 + (pdv - le) * u2);
-    slot[3 + a] = pcv * u1 + pdv * u2;
-    slot[6 + a] = -le * u1;
-    slot[9 + a] = -le * u2;
+  for (int q = 0; q < 3; ++q) {
+    const double u1 = s1 * n1[q], u2 = s2 * n2[q];
+    slot[q] = -((pcv - le) * u1 + (pdv - le) * u2);
+    slot[3 + q] = pcv * u1 + pdv * u2;
+    slot[6 + q] = -le * u1;
+    slot[9 + q] = -le * u2;
   }
-  return true;
+  return small;
 }
 }  // namespace
 
@@ -80,14 +76,13 @@ BendingModel::BendingModel(const TriMesh& reference, const BendingParams& p)
     : p_(p), hinges_(hinges(reference)) {
   if (!(p.kappa_b >= 0.0) || !std::isfinite(p.kappa_b))
     throw InputError(fmt::format("bending model: kappa_b must be >= 0, got {}", p.kappa_b));
-  std::vector<int> corners;
   for (const Hinge& h : hinges_) {
     theta0_.push_back(angle(h, reference.nodes));
     cos0_.push_back(std::cos(theta0_.back()));
     sin0_.push_back(std::sin(theta0_.back()));
-    corners.insert(corners.end(), {h.a, h.b, h.c, h.d});
+    corners_.insert(corners_.end(), {h.a, h.b, h.c, h.d});
   }
-  gather_ = NodeGather(corners, reference.node_count());
+  gather_ = NodeGather(corners_, reference.node_count());
 }
 
 double BendingModel::angle(const Hinge& h, const Eigen::Ref<const Points>& x) {
@@ -118,8 +113,13 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
   bent.resize(static_cast<std::size_t>(n));
   double* slot = scratch.data();
   const double* X = x.data();
-  const Eigen::Index stride = x.outerStride();
-  const Hinge* h = hinges_.data();
+  // The corners as 32-bit offsets into X, in a plain array: GCC 12 gathers with those only (with
+  // 64-bit offsets or from the Hinge structs this loop stayed scalar). Far below 2^31 here.
+  const auto stride = static_cast<int>(x.outerStride());
+  static thread_local std::vector<int> offset;
+  offset.resize(corners_.size());
+  for (std::size_t q = 0; q < corners_.size(); ++q) offset[q] = corners_[q] * stride;
+  const int* corner = offset.data();
   const double *th0 = theta0_.data(), *c0 = cos0_.data(), *s0 = sin0_.data();
   std::uint8_t* big = bent.data();
   const double k2 = -2.0 * kSqrt3 * p_.kappa_b;
@@ -128,17 +128,16 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
 #pragma omp simd reduction(+ : en)
   for (int k = 0; k < n; ++k) {
     double dt = 0.0;
-    big[k] = hinge_forces<true>(h[k], th0[k], c0[k], s0[k], X, stride, k2,
-                                slot + 12 * std::ptrdiff_t{k}, dt)
-                 ? 0
-                 : 1;
+    big[k] = static_cast<std::uint8_t>(!hinge_forces<true>(corner + 4 * std::ptrdiff_t{k}, th0[k],
+                                                           c0[k], s0[k], X, k2,
+                                                           slot + 12 * std::ptrdiff_t{k}, dt));
     en += dt * dt;
   }
   for (int k = 0; k < n; ++k) {
     if (!big[k]) continue;
     double dt = 0.0;
-    hinge_forces<false>(h[k], th0[k], c0[k], s0[k], X, stride, k2, slot + 12 * std::ptrdiff_t{k},
-                        dt);
+    hinge_forces<false>(corner + 4 * std::ptrdiff_t{k}, th0[k], c0[k], s0[k], X, k2,
+                        slot + 12 * std::ptrdiff_t{k}, dt);
     en += dt * dt;
   }
   gather_.add(scratch, f);

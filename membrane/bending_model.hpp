@@ -43,6 +43,7 @@ class BendingModel {
   std::vector<Hinge> hinges_;
   std::vector<double> theta0_;
   std::vector<double> cos0_, sin0_;  ///< of theta0: the deviation without an atan2 (see .cpp)
+  std::vector<int> corners_;         ///< a, b, c, d of each hinge
   NodeGather gather_;
 };
 

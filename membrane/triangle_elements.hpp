@@ -8,6 +8,7 @@
 // rotations, and the forces are rotation-equivariant by construction (zero net torque).
 #pragma once
 #include <Eigen/Core>
+#include <cstddef>
 #include <vector>
 
 #include "membrane/mesh.hpp"
@@ -36,7 +37,10 @@ class TriangleElements {
     std::vector<int> corners;
     for (const auto& t : tri_) {
       corners.insert(corners.end(), t.nodes.begin(), t.nodes.end());
+      for (int c = 0; c < 4; ++c) ref_[c].push_back(t.d(c % 2, c / 2));
+      ref_[4].push_back(t.area0);
     }
+    corners_ = corners;
     gather_ = NodeGather(corners, reference.node_count());
   }
 
@@ -66,30 +70,35 @@ class TriangleElements {
     scratch.resize(3, 3 * Eigen::Index{n});
     double* slot = scratch.data();
     const double* X = x.data();
-    const Eigen::Index stride = x.outerStride();
-    const TriangleReference* tri = tri_.data();
+    // 32-bit node offsets: GCC 12 gathers the corners only with those (a 64-bit product of the
+    // node and the stride left this loop scalar). A cell's coordinates are far below 2^31.
+    const int stride = static_cast<int>(x.outerStride());
+    // Plain arrays (corners, then D and the area per triangle): GCC 12 does not vectorise the
+    // loop over the triangle structs.
+    const int* corner = corners_.data();
+    const double *d00s = ref_[0].data(), *d10s = ref_[1].data(), *d01s = ref_[2].data(),
+                 *d11s = ref_[3].data(), *area0s = ref_[4].data();
     const Law law = law_;
     double e = 0.0;
 #pragma omp simd reduction(+ : e)
     for (int k = 0; k < n; ++k) {
-      const TriangleReference& t = tri[k];
-      const double* p0 = X + t.nodes[0] * stride;
-      const double* p1 = X + t.nodes[1] * stride;
-      const double* p2 = X + t.nodes[2] * stride;
-      const double e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-      const double e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+      const int* nodes = corner + 3 * std::ptrdiff_t{k};
+      const int a = nodes[0] * stride, b = nodes[1] * stride, c = nodes[2] * stride;
+      const double e1[3] = {X[b] - X[a], X[b + 1] - X[a + 1], X[b + 2] - X[a + 2]};
+      const double e2[3] = {X[c] - X[a], X[c + 1] - X[a + 1], X[c + 2] - X[a + 2]};
       const double g00 = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
       const double g01 = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
       const double g11 = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
       // C = D^T G D (G symmetric), so I1 = tr C - 2, I2 = det C - 1.
-      const double d00 = t.d(0, 0), d01 = t.d(0, 1), d10 = t.d(1, 0), d11 = t.d(1, 1);
+      const double d00 = d00s[k], d01 = d01s[k], d10 = d10s[k], d11 = d11s[k];
+      const double area0 = area0s[k];
       const double a00 = d00 * g00 + d10 * g01, a01 = d00 * g01 + d10 * g11;  // (D^T G) row 0
       const double a10 = d01 * g00 + d11 * g01, a11 = d01 * g01 + d11 * g11;  // row 1
       const double c00 = a00 * d00 + a01 * d10, c01 = a00 * d01 + a01 * d11;
       const double c10 = a10 * d00 + a11 * d10, c11 = a10 * d01 + a11 * d11;
       const double i1 = c00 + c11 - 2.0;
       const double i2 = c00 * c11 - c01 * c10 - 1.0;
-      e += t.area0 * law.energy(i1, i2);
+      e += area0 * law.energy(i1, i2);
       double w1, w2;
       law.derivatives(i1, i2, w1, w2);
       // dw/dC = w1 I + w2 det(C) C^-1 = w1 I + w2 adj(C); then dw/dG = D (dw/dC) D^T.
@@ -99,12 +108,12 @@ class TriangleElements {
       const double m00 = b00 * d00 + b01 * d01, m01 = b00 * d10 + b01 * d11;
       const double m11 = b10 * d10 + b11 * d11;
       double* out = slot + 9 * std::ptrdiff_t{k};
-      for (int a = 0; a < 3; ++a) {
-        const double f1 = -2.0 * t.area0 * (m00 * e1[a] + m01 * e2[a]);
-        const double f2 = -2.0 * t.area0 * (m01 * e1[a] + m11 * e2[a]);
-        out[a] = -(f1 + f2);
-        out[3 + a] = f1;
-        out[6 + a] = f2;
+      for (int q = 0; q < 3; ++q) {
+        const double f1 = -2.0 * area0 * (m00 * e1[q] + m01 * e2[q]);
+        const double f2 = -2.0 * area0 * (m01 * e1[q] + m11 * e2[q]);
+        out[q] = -(f1 + f2);
+        out[3 + q] = f1;
+        out[6 + q] = f2;
       }
     }
     gather_.add(scratch, f);
@@ -125,6 +134,8 @@ class TriangleElements {
 
   Law law_;
   std::vector<TriangleReference> tri_;
+  std::vector<int> corners_;    ///< tri_'s nodes, 3 per triangle
+  std::vector<double> ref_[5];  ///< D(0,0), D(1,0), D(0,1), D(1,1), area0 per triangle
   NodeGather gather_;
 };
 
