@@ -34,14 +34,15 @@ class TriangleElements {
  public:
   TriangleElements(const TriMesh& reference, const Law& law, const char* name)
       : law_(law), tri_(triangle_references(reference, name)) {
-    std::vector<int> corners;
     for (const auto& t : tri_) {
-      corners.insert(corners.end(), t.nodes.begin(), t.nodes.end());
-      for (int c = 0; c < 4; ++c) ref_[c].push_back(t.d(c % 2, c / 2));
-      ref_[4].push_back(t.area0);
+      corners_.insert(corners_.end(), t.nodes.begin(), t.nodes.end());
+      d00_.push_back(t.d(0, 0));
+      d10_.push_back(t.d(1, 0));
+      d01_.push_back(t.d(0, 1));
+      d11_.push_back(t.d(1, 1));
+      area0_.push_back(t.area0);
     }
-    corners_ = corners;
-    gather_ = NodeGather(corners, reference.node_count());
+    gather_ = NodeGather(corners_, reference.node_count());
   }
 
   const Law& law() const { return law_; }
@@ -76,8 +77,8 @@ class TriangleElements {
     // Plain arrays (corners, then D and the area per triangle): GCC 12 does not vectorise the
     // loop over the triangle structs.
     const int* corner = corners_.data();
-    const double *d00s = ref_[0].data(), *d10s = ref_[1].data(), *d01s = ref_[2].data(),
-                 *d11s = ref_[3].data(), *area0s = ref_[4].data();
+    const double *d00s = d00_.data(), *d10s = d10_.data(), *d01s = d01_.data(), *d11s = d11_.data(),
+                 *area0s = area0_.data();
     const Law law = law_;
     double e = 0.0;
 #pragma omp simd reduction(+ : e)
@@ -134,8 +135,8 @@ class TriangleElements {
 
   Law law_;
   std::vector<TriangleReference> tri_;
-  std::vector<int> corners_;    ///< tri_'s nodes, 3 per triangle
-  std::vector<double> ref_[5];  ///< D(0,0), D(1,0), D(0,1), D(1,1), area0 per triangle
+  std::vector<int> corners_;                           ///< tri_'s nodes, 3 per triangle
+  std::vector<double> d00_, d10_, d01_, d11_, area0_;  ///< tri_'s D and area0, per triangle
   NodeGather gather_;
 };
 
