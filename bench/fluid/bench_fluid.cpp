@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "fluid/collision/trt.hpp"
 #include "fluid/fluid_solver.hpp"
 #include "fluid/immersed_boundary.hpp"
 #include "fluid/viscosity_contrast.hpp"
@@ -70,6 +71,48 @@ BENCHMARK(BM_DldCell)
     ->ArgNames({"threads", "huge"})
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
+
+// The lattice kernel alone (TRT, uniform force, no fields, no bounce-back or ghosts), one thread,
+// on periodic n x n x 12 boxes of growing size: whether its pace per node depends on where its two
+// population arrays fit (L2, L3, memory) tells whether it is bound by cache traffic on this host.
+// Argument 0: the DLD cell's lattice instead (its runs cut by the pillar), the same loop.
+void BM_KernelByBoxSize(benchmark::State& state) {
+  omp_set_num_threads(1);
+  dld::fluid::Domain d = dld_config().domain;
+  if (state.range(0) > 0) {
+    d = dld::fluid::Domain{};
+    d.nx = d.ny = static_cast<int>(state.range(0));
+    d.nz = 12;
+    d.walls_z = false;
+  }
+  const dld::fluid::Lattice L(d);
+  const std::size_t n = L.padded_size();
+  std::vector<double> f(n * 19 + dld::fluid::kPopulationPadding, 1.0 / 19);
+  std::vector<double> g = f;
+  dld::fluid::KernelParams p;
+  p.force[0] = 1e-6;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        dld::fluid::stream_collide<dld::fluid::Trt, false, false>(L, f.data(), g.data(), p));
+    f.swap(g);
+  }
+  report(state, static_cast<double>(L.fluid_nodes()));
+  state.counters["MB"] = 2.0 * 19 * 8 * static_cast<double>(n) / 1e6;
+  double blocks = 0;  // 8-node blocks the kernel updates, masked tails included
+  for (const auto& run : L.segments()) blocks += (run.length + 7) / 8;
+  state.counters["blocks"] = blocks;
+}
+BENCHMARK(BM_KernelByBoxSize)
+    ->Arg(0)
+    ->Arg(16)
+    ->Arg(24)
+    ->Arg(32)
+    ->Arg(48)
+    ->Arg(80)
+    ->Arg(128)
+    ->Arg(256)
+    ->UseRealTime()
+    ->Unit(benchmark::kMicrosecond);
 
 void BM_PeriodicBox128(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
