@@ -15,18 +15,20 @@ namespace dld::membrane {
 namespace {
 const double kSqrt3 = std::sqrt(3.0);
 
-/// Forces on the four nodes of one hinge (12 values, nodes a, b, c, d at the 32-bit offsets
-/// `corner` into X) and its deviation from the rest angle, the angle of (x, y) = r (cos theta,
-/// sin theta) rotated by -theta0. A membrane bends little per hinge, so that angle is small: with
-/// |tan| <= 1/4 it is the Taylor series of atan (to t^25, truncation below 1e-17 relative), a
+/// Forces on the four nodes of one hinge (12 values; its nodes a, b, c, d at `corner`, each
+/// `stride` values apart in X) and its deviation from the rest angle, the angle of (x, y) = r (cos
+/// theta, sin theta) rotated by -theta0. A membrane bends little per hinge, so that angle is small:
+/// with |tan| <= 1/4 it is the Taylor series of atan (to t^25, truncation below 1e-17 relative), a
 /// division and a polynomial that vectorise, instead of an atan2 (42 of the 115 ns a hinge took).
 /// With kSmallOnly a larger deviation counts as zero (slots written with zero forces) and the
 /// return value is false: the caller redoes that hinge. Otherwise it takes atan2 there. Both agree
 /// to round-off. Branch-free (selects, not jumps), so that GCC vectorises the kSmallOnly loop.
 template <bool kSmallOnly>
-inline bool hinge_forces(const int* corner, double theta0, double c0, double s0, const double* X,
-                         double k2, double* slot, double& dt) {
-  const int a = corner[0], b = corner[1], c = corner[2], d = corner[3];
+inline bool hinge_forces(const int* corner, int stride, double theta0, double c0, double s0,
+                         const double* X, double k2, double* slot, double& dt) {
+  // 32-bit offsets: GCC 12 gathers with those only (with 64-bit ones this loop stayed scalar).
+  const int a = corner[0] * stride, b = corner[1] * stride, c = corner[2] * stride,
+            d = corner[3] * stride;
   const double e[3] = {X[b] - X[a], X[b + 1] - X[a + 1], X[b + 2] - X[a + 2]};
   const double ca[3] = {X[c] - X[a], X[c + 1] - X[a + 1], X[c + 2] - X[a + 2]};
   const double da[3] = {X[d] - X[a], X[d + 1] - X[a + 1], X[d + 2] - X[a + 2]};
@@ -113,13 +115,10 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
   bent.resize(static_cast<std::size_t>(n));
   double* slot = scratch.data();
   const double* X = x.data();
-  // The corners as 32-bit offsets into X, in a plain array: GCC 12 gathers with those only (with
-  // 64-bit offsets or from the Hinge structs this loop stayed scalar). Far below 2^31 here.
+  // The corners in a plain array (from the Hinge structs this loop stayed scalar); a cell's
+  // coordinates are far below 2^31 values.
   const auto stride = static_cast<int>(x.outerStride());
-  static thread_local std::vector<int> offset;
-  offset.resize(corners_.size());
-  for (std::size_t q = 0; q < corners_.size(); ++q) offset[q] = corners_[q] * stride;
-  const int* corner = offset.data();
+  const int* corner = corners_.data();
   const double *th0 = theta0_.data(), *c0 = cos0_.data(), *s0 = sin0_.data();
   std::uint8_t* big = bent.data();
   const double k2 = -2.0 * kSqrt3 * p_.kappa_b;
@@ -128,15 +127,15 @@ double BendingModel::add_forces(const Eigen::Ref<const Points>& x, Eigen::Ref<Po
 #pragma omp simd reduction(+ : en)
   for (int k = 0; k < n; ++k) {
     double dt = 0.0;
-    big[k] = static_cast<std::uint8_t>(!hinge_forces<true>(corner + 4 * std::ptrdiff_t{k}, th0[k],
-                                                           c0[k], s0[k], X, k2,
+    big[k] = static_cast<std::uint8_t>(!hinge_forces<true>(corner + 4 * std::ptrdiff_t{k}, stride,
+                                                           th0[k], c0[k], s0[k], X, k2,
                                                            slot + 12 * std::ptrdiff_t{k}, dt));
     en += dt * dt;
   }
   for (int k = 0; k < n; ++k) {
     if (!big[k]) continue;
     double dt = 0.0;
-    hinge_forces<false>(corner + 4 * std::ptrdiff_t{k}, th0[k], c0[k], s0[k], X, k2,
+    hinge_forces<false>(corner + 4 * std::ptrdiff_t{k}, stride, th0[k], c0[k], s0[k], X, k2,
                         slot + 12 * std::ptrdiff_t{k}, dt);
     en += dt * dt;
   }
