@@ -72,10 +72,11 @@ BENCHMARK(BM_DldCell)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 
-// The lattice kernel alone (TRT, uniform force, no fields, no bounce-back or ghosts), one thread,
-// on periodic n x n x 12 boxes of growing size: whether its pace per node depends on where its two
-// population arrays fit (L2, L3, memory) tells whether it is bound by cache traffic on this host.
-// Argument 0: the DLD cell's lattice instead (its runs cut by the pillar), the same loop.
+// The lattice kernel alone (TRT, uniform force, no fields; bounce-back and ghosts not refreshed:
+// a timing, not a flow), one thread, on n x n x 12 boxes of growing size: whether its pace per
+// node depends on where its two population arrays fit (L2, L3, memory) tells whether it is bound
+// by cache traffic on this host. Argument 0: the DLD cell's lattice instead (its runs cut by the
+// pillar), the same loop.
 void BM_KernelByBoxSize(benchmark::State& state) {
   omp_set_num_threads(1);
   dld::fluid::Domain d = dld_config().domain;
