@@ -3,8 +3,9 @@
 // one-dimensional weights): W x-weights, W y-rows and W z-layers, no list of W^3 nodes. A marker
 // whose support lies in one box, away from every solid node and z wall, has weights that need
 // no renormalisation beyond their product's sum, and its W^2 rows of W consecutive x nodes are
-// read and written as short vectors. Other markers (near the pillar, a wall or the shifted x face)
-// take ImmersedBoundary::stencil(). Lattice units; node (i, j, k) at (i + 1/2, j + 1/2, k + 1/2).
+// read and written as short vectors. Markers across the shifted x face take the split footprint
+// (below), those by the pillar a masked one (fluid/ib_masked_footprint.hpp), any other near a
+// solid ImmersedBoundary::stencil(). Lattice units; node (i, j, k) at (i + 1/2, j + 1/2, k + 1/2).
 #pragma once
 #include <cmath>
 #include <cstddef>
@@ -215,6 +216,36 @@ inline void spread_footprint(const IbSplitFootprint<W>& p, const double* f,
 template <int W>
 inline void interpolate_footprint(const IbSplitFootprint<W>& p, const double* const v[3],
                                   double* u) {
+#if defined(__AVX512VL__)
+  if constexpr (W == 4) {
+    // Each row as one 4-wide vector merged from two masked loads, one per box (lane a is node a
+    // of the support, as in spread_footprint above); the lanes' y weights are their part's.
+    const __mmask8 first = static_cast<__mmask8>((1u << p.split) - 1);
+    const auto second = static_cast<__mmask8>(0xF & ~first);
+    const __m256d wx = _mm256_loadu_pd(p.wx);
+    __m256d a[3] = {_mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd()};
+    for (int c = 0; c < 4; ++c)
+      for (int b = 0; b < 4; ++b) {
+        const __m256d wy =
+            _mm256_mask_blend_pd(second, _mm256_set1_pd(p.wy[0][b]), _mm256_set1_pd(p.wy[1][b]));
+        const __m256d w = _mm256_mul_pd(_mm256_mul_pd(wx, wy), _mm256_set1_pd(p.wz[c]));
+        const std::size_t n0 = p.layer[c] + p.row[0][b] + p.x0[0];
+        const std::size_t n1 =
+            p.layer[c] + p.row[1][b] + p.x0[1] - static_cast<std::size_t>(p.split);
+        for (int d = 0; d < 3; ++d) {
+          const __m256d row =
+              _mm256_mask_loadu_pd(_mm256_maskz_loadu_pd(first, v[d] + n0), second, v[d] + n1);
+          a[d] = _mm256_fmadd_pd(w, row, a[d]);
+        }
+      }
+    for (int d = 0; d < 3; ++d) {
+      alignas(32) double l[4];
+      _mm256_store_pd(l, a[d]);
+      u[d] = (l[0] + l[1]) + (l[2] + l[3]);
+    }
+    return;
+  }
+#endif
   u[0] = u[1] = u[2] = 0.0;
   for_each_node(p, [&](std::size_t n, double w) {
     for (int d = 0; d < 3; ++d) u[d] += w * v[d][n];

@@ -258,6 +258,77 @@ void ImmersedBoundary::batched_footprints(const Peskin4AxisBatch& axes, int coun
         lane_footprint(axes, lane, &positions[3 * static_cast<std::size_t>(order[lane])], fp[lane]);
 }
 
+// By the pillar: its columns are solid at every height, so stencil()'s dropping of solid nodes
+// zeroes whole columns, and its renormalisation divides by (sum over fluid columns of wx wy) x
+// (sum of wz). The same nodes and weights as stencil(), up to the order of the sums.
+template <int W>
+bool ImmersedBoundary::masked_footprint(const double* p, IbMaskedFootprint<W>& fp) const {
+  const Domain& d = lattice_.domain();
+  double X = p[0], Y = p[1];
+  const double Z = p[2];
+  if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z)) return false;
+  if (d.ny < W || d.nz < W) return false;  // a row or layer would repeat
+  const double wraps = std::floor(X / d.nx);
+  X -= wraps * d.nx;
+  Y -= wraps * d.shift;
+  double wx[W], wy[W];
+  const int i0 = axis_weights<W>(kernel_, X, wx);
+  const int j0 = axis_weights<W>(kernel_, Y, wy);
+  return place_masked_footprint<W>(i0, j0, axis_weights<W>(kernel_, Z, fp.wz), wx, wy, fp);
+}
+
+bool ImmersedBoundary::batched_masked_footprint(const Peskin4AxisBatch& axes, int lane,
+                                                const double* p, IbMaskedFootprint<4>& fp) const {
+  const Domain& d = lattice_.domain();
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
+  if (d.ny < 4 || d.nz < 4) return false;
+  double wx[4], wy[4];
+  for (int a = 0; a < 4; ++a) {
+    wx[a] = axes.w[0][a][lane];
+    wy[a] = axes.w[1][a][lane];
+    fp.wz[a] = axes.w[2][a][lane];
+  }
+  return place_masked_footprint<4>(static_cast<int>(axes.first[0][lane]),
+                                   static_cast<int>(axes.first[1][lane]),
+                                   static_cast<int>(axes.first[2][lane]), wx, wy, fp);
+}
+
+template <int W>
+bool ImmersedBoundary::place_masked_footprint(int i0, int j0, int k0, const double* wx,
+                                              const double* wy, IbMaskedFootprint<W>& fp) const {
+  const Domain& d = lattice_.domain();
+  if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
+  fit_z_layers<W>(k0, fp.wz, fp.layer);
+  const int jw0 = j0 >= 0 && j0 < d.ny ? j0 : ((j0 % d.ny) + d.ny) % d.ny;
+  const auto px = static_cast<std::size_t>(lattice_.px());
+  fp.x0 = static_cast<std::size_t>(i0) + 1;
+  double sxy = 0, sz = 0;
+  for (int b = 0; b < W; ++b) {
+    const int jw = jw0 + b < d.ny ? jw0 + b : jw0 + b - d.ny;  // y is periodic
+    fp.row[b] = static_cast<std::size_t>(jw + 1) * px;
+    fp.wy[b] = wy[b];
+    double sx = 0;
+    for (int a = 0; a < W; ++a) {
+      const std::size_t column = fp.row[b] + fp.x0 + static_cast<std::size_t>(a);
+      if (column_solid_[column] && !column_all_solid_[column]) return false;  // stencil()
+      fp.wx[b][a] = column_solid_[column] ? 0.0 : wx[a];
+      sx += fp.wx[b][a];
+    }
+    sxy += sx * wy[b];
+  }
+  for (int c = 0; c < W; ++c) sz += fp.wz[c];
+  const double total = sxy * sz;
+  if (!(total > 0.0)) return false;  // no fluid node in reach
+  const double inv = 1.0 / total;
+  for (int b = 0; b < W; ++b)
+    for (int a = 0; a < W; ++a) fp.wx[b][a] *= inv;
+  return true;
+}
+
+template bool ImmersedBoundary::masked_footprint<2>(const double*, IbMaskedFootprint<2>&) const;
+template bool ImmersedBoundary::masked_footprint<3>(const double*, IbMaskedFootprint<3>&) const;
+template bool ImmersedBoundary::masked_footprint<4>(const double*, IbMaskedFootprint<4>&) const;
+
 template bool ImmersedBoundary::footprint<2>(const double*, IbFootprint<2>&) const;
 template bool ImmersedBoundary::footprint<3>(const double*, IbFootprint<3>&) const;
 template bool ImmersedBoundary::footprint<4>(const double*, IbFootprint<4>&) const;

@@ -25,12 +25,16 @@ IbKernel ib_kernel_from_name(const std::string& name) {
 ImmersedBoundary::ImmersedBoundary(const Lattice& lattice, IbKernel kernel)
     : lattice_(lattice),
       kernel_(kernel),
-      column_solid_(static_cast<std::size_t>(lattice.px()) * lattice.py(), 0) {
+      column_solid_(static_cast<std::size_t>(lattice.px()) * lattice.py(), 0),
+      column_all_solid_(column_solid_.size(), 1) {
   const std::size_t plane = column_solid_.size();
   const std::uint8_t* solid = lattice.solid_mask().data();
   for (int k = 0; k < lattice.nz(); ++k) {
     const std::uint8_t* layer = solid + lattice.index(-1, -1, k);
-    for (std::size_t c = 0; c < plane; ++c) column_solid_[c] |= layer[c];
+    for (std::size_t c = 0; c < plane; ++c) {
+      column_solid_[c] |= layer[c];
+      column_all_solid_[c] &= layer[c];
+    }
   }
   const int nx = lattice.nx(), ny = lattice.ny(), w = static_cast<int>(kernel);
   const auto px = static_cast<std::size_t>(lattice.px());
@@ -141,8 +145,9 @@ void ImmersedBoundary::group_markers(int threads, int width) const {
   for (const std::uint32_t m : by_column_) order_[count[group_of_[m]]++] = m;
 }
 
-// A marker without a separable footprint: across the shifted x face (split), else near a solid
-// (stencil). Kept for the interpolation as its `q`-th marker (W = 4). False if no fluid is near.
+// A marker without a separable footprint: across the shifted x face (split), else by the pillar
+// (masked), else near a solid (stencil). Kept for the interpolation as its `q`-th marker (W = 4).
+// False if no fluid is near.
 template <int W>
 bool ImmersedBoundary::spread_unseparable(std::uint32_t q, int thread, const double* p,
                                           const double* force, double* const out[3]) const {
@@ -154,6 +159,15 @@ bool ImmersedBoundary::spread_unseparable(std::uint32_t q, int thread, const dou
       spread_split_[q] = sp;
     }
     spread_footprint(sp, force, out);
+    return true;
+  }
+  IbMaskedFootprint<W> mp;
+  if (masked_footprint<W>(p, mp)) {
+    if constexpr (keep) {
+      keep_masked(mp, thread, spread_stencil_[q]);
+      spread_kind_[q] = kKeptMasked;
+    }
+    spread_footprint(mp, force, out);
     return true;
   }
   IbStencil s;
@@ -191,6 +205,7 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
     spread_stencil_.resize(markers);
     kept_nodes_.resize(static_cast<std::size_t>(slabs));
     kept_weights_.resize(static_cast<std::size_t>(slabs));
+    kept_masked_.resize(static_cast<std::size_t>(slabs));
   }
   double* const out[3] = {field[0], field[1], field[2]};
   std::size_t bad = markers;
@@ -204,6 +219,7 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
     if constexpr (keep) {
       kept_nodes_[static_cast<std::size_t>(t)].clear();
       kept_weights_[static_cast<std::size_t>(t)].clear();
+      kept_masked_[static_cast<std::size_t>(t)].clear();
     }
     IbFootprint<W> fp;
     Peskin4AxisBatch axes;
@@ -267,6 +283,13 @@ void ImmersedBoundary::keep_stencil(const IbStencil& s, int thread, KeptStencil&
   weights.insert(weights.end(), s.weight.begin(), s.weight.begin() + s.count);
 }
 
+void ImmersedBoundary::keep_masked(const IbMaskedFootprint<4>& fp, int thread,
+                                   KeptStencil& kept) const {
+  std::vector<IbMaskedFootprint<4>>& masked = kept_masked_[static_cast<std::size_t>(thread)];
+  kept = {static_cast<std::uint32_t>(thread), static_cast<std::uint32_t>(masked.size()), 1};
+  masked.push_back(fp);
+}
+
 // The same sum, in the same order, as interpolating through stencil() anew.
 void ImmersedBoundary::interpolate_kept_stencil(const KeptStencil& kept, const double* const v[3],
                                                 double* out) const {
@@ -278,14 +301,19 @@ void ImmersedBoundary::interpolate_kept_stencil(const KeptStencil& kept, const d
   for (int a = 0; a < 3; ++a) out[a] = u[a];
 }
 
-// A marker without a separable footprint (across the shifted x face, else near a solid); false if
-// no fluid is near.
+// A marker without a separable footprint (across the shifted x face, else by the pillar, else
+// near a solid); false if no fluid is near.
 template <int W>
 bool ImmersedBoundary::interpolate_unseparable(const double* p, const double* const v[3],
                                                double* out) const {
   IbSplitFootprint<W> sp;
   if (split_footprint<W>(p, sp)) {
     interpolate_footprint(sp, v, out);
+    return true;
+  }
+  IbMaskedFootprint<W> mp;
+  if (masked_footprint<W>(p, mp)) {
+    interpolate_footprint(mp, v, out);
     return true;
   }
   IbStencil s;
@@ -329,8 +357,11 @@ void ImmersedBoundary::interpolate_moved(std::span<const double> positions,
     batched_footprints(axes, count, positions.data(), index, fp, separable);
     for (int lane = 0; lane < count; ++lane) {
       const std::size_t m = index[lane];
+      IbMaskedFootprint<4> mp;
       if (separable[lane]) {
         interpolate_footprint(fp[lane], v, &out[3 * m]);
+      } else if (batched_masked_footprint(axes, lane, &positions[3 * m], mp)) {
+        interpolate_footprint(mp, v, &out[3 * m]);
       } else if (!interpolate_unseparable<4>(&positions[3 * m], v, &out[3 * m])) {
         bad = std::min(bad, m);
       }
@@ -369,6 +400,11 @@ void ImmersedBoundary::interpolate_w(std::span<const double> positions,
       }
       if (spread_kind_[q] == kKeptStencil) {
         interpolate_kept_stencil(spread_stencil_[q], v, &out[3 * m]);
+        continue;
+      }
+      if (spread_kind_[q] == kKeptMasked) {
+        const KeptStencil& at = spread_stencil_[q];
+        interpolate_footprint(kept_masked_[at.thread][at.offset], v, &out[3 * m]);
         continue;
       }
     }

@@ -20,6 +20,7 @@
 #include "fluid/ib_axis_batch.hpp"
 #include "fluid/ib_footprint.hpp"
 #include "fluid/ib_kernel.hpp"
+#include "fluid/ib_masked_footprint.hpp"
 #include "fluid/lattice.hpp"
 
 namespace dld::fluid {
@@ -70,6 +71,15 @@ class ImmersedBoundary {
   /// into fp[lane] and separable[lane].
   void batched_footprints(const Peskin4AxisBatch& axes, int count, const double* positions,
                           const std::uint32_t* order, IbFootprint<4>* fp, bool* separable) const;
+  /// The footprint of a marker inside one box whose support reaches columns that are solid at
+  /// every height (the pillar; fluid/ib_masked_footprint.hpp); false when it crosses the shifted
+  /// x face, reaches a column solid at some heights only, or no fluid node. stencil()'s weights
+  /// up to round-off.
+  template <int W>
+  bool masked_footprint(const double* p, IbMaskedFootprint<W>& fp) const;
+  /// masked_footprint<4>() from lane `lane` of a batch of axis weights: the same bits.
+  bool batched_masked_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
+                                IbMaskedFootprint<4>& fp) const;
 
  private:
   /// z weights and layer offsets of a support (wall layers zero-weighted, see footprint());
@@ -83,6 +93,11 @@ class ImmersedBoundary {
   /// supports' first nodes (i0, j0, k0; x folded into the box) are known.
   template <int W>
   bool place_footprint(int i0, int j0, int k0, IbFootprint<W>& fp) const;
+  /// The rest of masked_footprint() once the axis weights (fp.wz; wx, wy; unnormalised) and the
+  /// supports' first nodes are known.
+  template <int W>
+  bool place_masked_footprint(int i0, int j0, int k0, const double* wx, const double* wy,
+                              IbMaskedFootprint<W>& fp) const;
   /// batched_footprint(), inlined into batched_footprints().
   bool lane_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
                       IbFootprint<4>& fp) const;
@@ -97,6 +112,8 @@ class ImmersedBoundary {
   };
   /// Copies stencil s of a marker spread by `thread` into that thread's kept nodes and weights.
   void keep_stencil(const IbStencil& s, int thread, KeptStencil& kept) const;
+  /// The same for a masked footprint (count 1, into that thread's kept_masked_).
+  void keep_masked(const IbMaskedFootprint<4>& fp, int thread, KeptStencil& kept) const;
   void interpolate_kept_stencil(const KeptStencil& kept, const double* const v[3],
                                 double* out) const;
   template <int W>
@@ -121,6 +138,8 @@ class ImmersedBoundary {
   /// Per (i, j) column of the padded x-y plane (index (j + 1) * px + i + 1): 1 if any node of the
   /// column is solid, so stencil() checks single nodes only in columns that touch a solid.
   std::vector<std::uint8_t> column_solid_;
+  /// The same, 1 if every node of the column is solid (a pillar's column).
+  std::vector<std::uint8_t> column_all_solid_;
   /// Per (j0, i0) of the interior x range, j0 + W rows wrapped in y: 1 if any of the W x W
   /// columns from (i0, j0) touches a solid (index j0 * nx + i0; W = the kernel's width).
   std::vector<std::uint8_t> block_solid_;
@@ -134,13 +153,15 @@ class ImmersedBoundary {
   // The 4-point footprints of the last spread, in order_; interpolation at the same positions
   // (a coupled step spreads and interpolates at one set) reads them instead of recomputing.
   // Those across the shifted x face (about a tenth of a dense run's markers) are kept too.
-  // Those near a solid keep their stencil() nodes and weights, packed per spreading thread.
-  enum : std::uint8_t { kKeptNone, kKeptSeparable, kKeptSplit, kKeptStencil };
+  // Those by the pillar keep their masked footprints, and the rest near a solid their stencil()
+  // nodes and weights, packed per spreading thread.
+  enum : std::uint8_t { kKeptNone, kKeptSeparable, kKeptSplit, kKeptStencil, kKeptMasked };
   mutable std::vector<IbFootprint<4>> spread_footprints_;
   mutable std::vector<IbSplitFootprint<4>> spread_split_;
   mutable std::vector<KeptStencil> spread_stencil_;
   mutable std::vector<std::vector<std::size_t>> kept_nodes_;
   mutable std::vector<std::vector<double>> kept_weights_;
+  mutable std::vector<std::vector<IbMaskedFootprint<4>>> kept_masked_;
   mutable std::vector<std::uint8_t> spread_kind_;
   mutable std::vector<double> spread_positions_;
   mutable bool spread_done_ = false;  // spread_positions_ holds a spread's positions

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "fluid/ib_axis_batch.hpp"
@@ -40,10 +41,11 @@ void expect_same_nodes(const IbStencil& s, int W, NodeWeight node_weight, std::s
 template <int W>
 void expect_footprint_is_stencil(const Lattice& L, IbKernel k, const std::vector<double>& pos) {
   const ImmersedBoundary ib(L, k);
-  int separable = 0, split = 0, listed = 0;
+  int separable = 0, split = 0, masked = 0, listed = 0;
   for (std::size_t m = 0; m < pos.size() / 3; ++m) {
     IbFootprint<W> fp;
     IbSplitFootprint<W> sp;
+    IbMaskedFootprint<W> mp;
     IbStencil s;
     ASSERT_TRUE(ib.stencil(&pos[3 * m], s));
     if (ib.footprint<W>(&pos[3 * m], fp)) {
@@ -65,13 +67,24 @@ void expect_footprint_is_stencil(const Lattice& L, IbKernel k, const std::vector
                              sp.wx[a] * sp.wy[part][b] * sp.wz[c]};
           },
           m);
+    } else if (ib.masked_footprint<W>(&pos[3 * m], mp)) {
+      ++masked;
+      expect_same_nodes<IbMaskedFootprint<W>>(
+          s, W,
+          [&](int a, int b, int c) {
+            return std::pair{mp.layer[c] + mp.row[b] + mp.x0 + a,
+                             mp.wx[b][a] * mp.wy[b] * mp.wz[c]};
+          },
+          m);
     } else {
       ++listed;
     }
   }
   EXPECT_GT(separable, 100) << W << "-point";
   EXPECT_GT(split, 10) << W << "-point: markers across the shifted x face";
-  EXPECT_GT(listed, 10) << W << "-point: markers by the pillar";
+  EXPECT_GT(masked, 10) << W << "-point: markers by the pillar";
+  // The pillar is solid at every height and away from the x face: no marker needs stencil().
+  EXPECT_EQ(listed, 0) << W << "-point";
 }
 
 TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
@@ -84,7 +97,7 @@ TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
 
 // The SIMD batch of axis weights (fluid/ib_axis_batch.hpp) gives footprint<4>()'s footprint bit
 // for bit, also for markers folded from other boxes, by the walls and refused ones (x face,
-// pillar, not finite).
+// pillar, not finite), and masked_footprint<4>()'s by the pillar.
 TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   const Lattice L(test_domain(3.4));
   const ImmersedBoundary ib(L, IbKernel::kPeskin4);
@@ -96,7 +109,7 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   const std::size_t markers = pos.size() / 3;
   std::vector<std::uint32_t> index(markers);
   for (std::size_t m = 0; m < markers; ++m) index[m] = static_cast<std::uint32_t>(markers - 1 - m);
-  int separable = 0, refused = 0;
+  int separable = 0, refused = 0, masked = 0;
   for (std::size_t q0 = 0; q0 < markers; q0 += kIbBatch) {
     const int n = static_cast<int>(std::min<std::size_t>(kIbBatch, markers - q0));
     Peskin4AxisBatch axes;
@@ -108,6 +121,13 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
       ASSERT_EQ(one, batch) << "marker " << index[q0 + static_cast<std::size_t>(l)];
       if (!one) {
         ++refused;
+        IbMaskedFootprint<4> ma, mb;
+        const bool mone = ib.masked_footprint<4>(p, ma);
+        ASSERT_EQ(mone, ib.batched_masked_footprint(axes, l, p, mb));
+        if (mone) {
+          ++masked;
+          EXPECT_EQ(0, std::memcmp(&ma, &mb, sizeof ma));  // the same bits
+        }
         continue;
       }
       ++separable;
@@ -123,6 +143,7 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   }
   EXPECT_GT(separable, 500);
   EXPECT_GT(refused, 20);
+  EXPECT_GT(masked, 10);
 }
 
 // A footprint across the shifted x face spreads (with masked vectors where the CPU has them) the
