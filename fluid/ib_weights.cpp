@@ -157,14 +157,47 @@ bool ImmersedBoundary::split_footprint(const double* p, IbSplitFootprint<W>& fp)
   Y -= wraps * d.shift;
   const int i0 = axis_weights<W>(kernel_, X, fp.wx);
   if (i0 >= 0 && i0 + W <= d.nx) return false;  // inside one box: footprint()
+  z_layers<W>(Z, fp.wz, fp.layer);
+  return place_split_footprint<W>(i0, Y, nullptr, 0, fp);
+}
+
+bool ImmersedBoundary::batched_split_footprint(const Peskin4AxisBatch& axes, int lane,
+                                               const double* p, IbSplitFootprint<4>& fp) const {
+  const Domain& d = lattice_.domain();
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
+  if (d.nx < 4 || d.ny < 4 || d.nz < 4) return false;
+  const int i0 = static_cast<int>(axes.first[0][lane]);
+  if (i0 >= 0 && i0 + 4 <= d.nx) return false;  // inside one box
+  double wy[4];
+  for (int a = 0; a < 4; ++a) {
+    fp.wx[a] = axes.w[0][a][lane];
+    wy[a] = axes.w[1][a][lane];
+    fp.wz[a] = axes.w[2][a][lane];
+  }
+  fit_z_layers<4>(static_cast<int>(axes.first[2][lane]), fp.wz, fp.layer);
+  const double wraps = std::floor(p[0] / d.nx);  // as peskin4_axis_batch folds it
+  return place_split_footprint<4>(i0, p[1] - wraps * d.shift, wy,
+                                  static_cast<int>(axes.first[1][lane]), fp);
+}
+
+// The rows of each part: the part in the marker's own box (box 0) takes wy_box0 and j0_box0 when
+// given (the batch's y weights, computed in that frame), the other computes its own.
+template <int W>
+bool ImmersedBoundary::place_split_footprint(int i0, double Y, const double* wy_box0, int j0_box0,
+                                             IbSplitFootprint<W>& fp) const {
+  const Domain& d = lattice_.domain();
   const int box0 = i0 < 0 ? -1 : 0;  // the box of the first column; the rest are in box0 + 1
   fp.split = (box0 + 1) * d.nx - i0;
-  z_layers<W>(Z, fp.wz, fp.layer);
   const auto px = static_cast<std::size_t>(lattice_.px());
   double sy[2] = {0, 0};
   for (int part = 0; part < 2; ++part) {
     const int box = box0 + part;
-    const int j0 = axis_weights<W>(kernel_, Y - box * d.shift, fp.wy[part]);
+    int j0 = j0_box0;
+    if (box == 0 && wy_box0 != nullptr) {
+      for (int b = 0; b < W; ++b) fp.wy[part][b] = wy_box0[b];
+    } else {
+      j0 = axis_weights<W>(kernel_, Y - box * d.shift, fp.wy[part]);
+    }
     const int jw0 = ((j0 % d.ny) + d.ny) % d.ny;
     const int first = part == 0 ? i0 - box * d.nx : 0;  // the part's first column in its box
     fp.x0[part] = static_cast<std::size_t>(first) + 1;

@@ -358,10 +358,13 @@ void ImmersedBoundary::interpolate_moved(std::span<const double> positions,
     for (int lane = 0; lane < count; ++lane) {
       const std::size_t m = index[lane];
       IbMaskedFootprint<4> mp;
+      IbSplitFootprint<4> sp;
       if (separable[lane]) {
         interpolate_footprint(fp[lane], v, &out[3 * m]);
       } else if (batched_masked_footprint(axes, lane, &positions[3 * m], mp)) {
         interpolate_footprint(mp, v, &out[3 * m]);
+      } else if (batched_split_footprint(axes, lane, &positions[3 * m], sp)) {
+        interpolate_footprint(sp, v, &out[3 * m]);
       } else if (!interpolate_unseparable<4>(&positions[3 * m], v, &out[3 * m])) {
         bad = std::min(bad, m);
       }

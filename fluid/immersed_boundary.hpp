@@ -77,6 +77,9 @@ class ImmersedBoundary {
   /// up to round-off.
   template <int W>
   bool masked_footprint(const double* p, IbMaskedFootprint<W>& fp) const;
+  /// split_footprint<4>() from lane `lane` of a batch of axis weights: the same bits.
+  bool batched_split_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
+                               IbSplitFootprint<4>& fp) const;
   /// masked_footprint<4>() from lane `lane` of a batch of axis weights: the same bits.
   bool batched_masked_footprint(const Peskin4AxisBatch& axes, int lane, const double* p,
                                 IbMaskedFootprint<4>& fp) const;
@@ -93,6 +96,11 @@ class ImmersedBoundary {
   /// supports' first nodes (i0, j0, k0; x folded into the box) are known.
   template <int W>
   bool place_footprint(int i0, int j0, int k0, IbFootprint<W>& fp) const;
+  /// The rest of split_footprint() once the x and z weights are in fp (z layers fitted): the
+  /// rows of both parts; Y is the marker's y with x folded into the box.
+  template <int W>
+  bool place_split_footprint(int i0, double Y, const double* wy_box0, int j0_box0,
+                             IbSplitFootprint<W>& fp) const;
   /// The rest of masked_footprint() once the axis weights (fp.wz; wx, wy; unnormalised) and the
   /// supports' first nodes are known.
   template <int W>

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <vector>
 
@@ -97,7 +98,8 @@ TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
 
 // The SIMD batch of axis weights (fluid/ib_axis_batch.hpp) gives footprint<4>()'s footprint bit
 // for bit, also for markers folded from other boxes, by the walls and refused ones (x face,
-// pillar, not finite), and masked_footprint<4>()'s by the pillar.
+// pillar, not finite), masked_footprint<4>()'s by the pillar and split_footprint<4>()'s across
+// the x face.
 TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   const Lattice L(test_domain(3.4));
   const ImmersedBoundary ib(L, IbKernel::kPeskin4);
@@ -109,7 +111,7 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   const std::size_t markers = pos.size() / 3;
   std::vector<std::uint32_t> index(markers);
   for (std::size_t m = 0; m < markers; ++m) index[m] = static_cast<std::uint32_t>(markers - 1 - m);
-  int separable = 0, refused = 0, masked = 0;
+  int separable = 0, refused = 0, masked = 0, split = 0;
   for (std::size_t q0 = 0; q0 < markers; q0 += kIbBatch) {
     const int n = static_cast<int>(std::min<std::size_t>(kIbBatch, markers - q0));
     Peskin4AxisBatch axes;
@@ -128,6 +130,15 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
           ++masked;
           EXPECT_EQ(0, std::memcmp(&ma, &mb, sizeof ma));  // the same bits
         }
+        IbSplitFootprint<4> sa, sb;
+        const bool sone = ib.split_footprint<4>(p, sa);
+        ASSERT_EQ(sone, ib.batched_split_footprint(axes, l, p, sb));
+        if (sone) {
+          ++split;
+          // Field by field (the struct has padding after `split`).
+          EXPECT_EQ(sa.split, sb.split);
+          EXPECT_EQ(0, std::memcmp(&sa, &sb, offsetof(IbSplitFootprint<4>, split)));
+        }
         continue;
       }
       ++separable;
@@ -144,6 +155,7 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   EXPECT_GT(separable, 500);
   EXPECT_GT(refused, 20);
   EXPECT_GT(masked, 10);
+  EXPECT_GT(split, 10);
 }
 
 // A footprint across the shifted x face spreads (with masked vectors where the CPU has them) the
