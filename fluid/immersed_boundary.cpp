@@ -183,6 +183,24 @@ bool ImmersedBoundary::spread_unseparable(std::uint32_t q, int thread, const dou
   return true;
 }
 
+// spread_unseparable<4>()'s split and masked footprints from a batch's axis weights (the same
+// bits); false for the others, which take spread_unseparable().
+bool ImmersedBoundary::spread_batched_unseparable(const Peskin4AxisBatch& axes, int lane,
+                                                  std::uint32_t q, int thread, const double* p,
+                                                  const double* force, double* const out[3]) const {
+  if (batched_split_footprint(axes, lane, p, spread_split_[q])) {
+    spread_kind_[q] = kKeptSplit;
+    spread_footprint(spread_split_[q], force, out);
+    return true;
+  }
+  IbMaskedFootprint<4> mp;
+  if (!batched_masked_footprint(axes, lane, p, mp)) return false;
+  keep_masked(mp, thread, spread_stencil_[q]);
+  spread_kind_[q] = kKeptMasked;
+  spread_footprint(mp, force, out);
+  return true;
+}
+
 template <int W>
 void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<const double> forces,
                                 const std::array<double*, 3>& field) const {
@@ -244,7 +262,12 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
             }
             separable = batch_separable[lane];
             spread_kind_[q] = separable ? kKeptSeparable : kKeptNone;
-            if (separable) spread_footprint(spread_footprints_[q], &forces[3 * m], out);
+            if (separable) {
+              spread_footprint(spread_footprints_[q], &forces[3 * m], out);
+            } else {
+              separable = spread_batched_unseparable(axes, lane, q, t, &positions[3 * m],
+                                                     &forces[3 * m], out);
+            }
           } else {
             separable = footprint<W>(&positions[3 * m], fp);
             if (separable) spread_footprint(fp, &forces[3 * m], out);

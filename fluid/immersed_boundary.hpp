@@ -112,6 +112,9 @@ class ImmersedBoundary {
   template <int W>
   bool spread_unseparable(std::uint32_t q, int thread, const double* p, const double* force,
                           double* const out[3]) const;
+  bool spread_batched_unseparable(const Peskin4AxisBatch& axes, int lane, std::uint32_t q,
+                                  int thread, const double* p, const double* force,
+                                  double* const out[3]) const;
   template <int W>
   void spread_w(std::span<const double> positions, std::span<const double> forces,
                 const std::array<double*, 3>& field) const;
