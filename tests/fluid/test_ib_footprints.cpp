@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstddef>
-#include <cstring>
 #include <vector>
 
 #include "fluid/ib_axis_batch.hpp"
@@ -96,6 +94,32 @@ TEST(ImmersedBoundary, SeparableFootprintHasTheStencilsNodesAndWeights) {
   expect_footprint_is_stencil<4>(L, IbKernel::kPeskin4, pos);
 }
 
+void expect_same_bits(const IbMaskedFootprint<4>& a, const IbMaskedFootprint<4>& b) {
+  EXPECT_EQ(a.x0, b.x0);
+  for (int k = 0; k < 4; ++k) {
+    for (int q = 0; q < 4; ++q) EXPECT_EQ(a.wx[k][q], b.wx[k][q]);  // exact: the same bits
+    EXPECT_EQ(a.wy[k], b.wy[k]);
+    EXPECT_EQ(a.wz[k], b.wz[k]);
+    EXPECT_EQ(a.row[k], b.row[k]);
+    EXPECT_EQ(a.layer[k], b.layer[k]);
+  }
+}
+
+void expect_same_bits(const IbSplitFootprint<4>& a, const IbSplitFootprint<4>& b) {
+  EXPECT_EQ(a.split, b.split);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(a.wx[k], b.wx[k]);
+    EXPECT_EQ(a.wz[k], b.wz[k]);
+    EXPECT_EQ(a.layer[k], b.layer[k]);
+    for (int part = 0; part < 2; ++part) {
+      EXPECT_EQ(a.wy[part][k], b.wy[part][k]);
+      EXPECT_EQ(a.row[part][k], b.row[part][k]);
+    }
+  }
+  EXPECT_EQ(a.x0[0], b.x0[0]);
+  EXPECT_EQ(a.x0[1], b.x0[1]);
+}
+
 // The SIMD batch of axis weights (fluid/ib_axis_batch.hpp) gives footprint<4>()'s footprint bit
 // for bit, also for markers folded from other boxes, by the walls and refused ones (x face,
 // pillar, not finite), masked_footprint<4>()'s by the pillar and split_footprint<4>()'s across
@@ -106,7 +130,7 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   auto pos = markers_everywhere(L, 1000, 23);
   for (std::size_t m = 0; m < 100; ++m)
     pos[3 * m] += static_cast<double>(m % 5) * L.nx() - 2.0 * L.nx();
-  pos[3 * 7] = std::nan("");
+  pos[std::size_t{3} * 7] = std::nan("");
   pos[3 * 8 + 2] = INFINITY;
   const std::size_t markers = pos.size() / 3;
   std::vector<std::uint32_t> index(markers);
@@ -117,7 +141,7 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
     Peskin4AxisBatch axes;
     peskin4_axis_batch(pos.data(), &index[q0], n, L.nx(), L.domain().shift, axes);
     for (int l = 0; l < n; ++l) {
-      const double* p = &pos[3 * index[q0 + static_cast<std::size_t>(l)]];
+      const double* p = &pos[std::size_t{3} * index[q0 + static_cast<std::size_t>(l)]];
       IbFootprint<4> a, b;
       const bool one = ib.footprint<4>(p, a), batch = ib.batched_footprint(axes, l, p, b);
       ASSERT_EQ(one, batch) << "marker " << index[q0 + static_cast<std::size_t>(l)];
@@ -128,16 +152,14 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
         ASSERT_EQ(mone, ib.batched_masked_footprint(axes, l, p, mb));
         if (mone) {
           ++masked;
-          EXPECT_EQ(0, std::memcmp(&ma, &mb, sizeof ma));  // the same bits
+          expect_same_bits(ma, mb);
         }
         IbSplitFootprint<4> sa, sb;
         const bool sone = ib.split_footprint<4>(p, sa);
         ASSERT_EQ(sone, ib.batched_split_footprint(axes, l, p, sb));
         if (sone) {
           ++split;
-          // Field by field (the struct has padding after `split`).
-          EXPECT_EQ(sa.split, sb.split);
-          EXPECT_EQ(0, std::memcmp(&sa, &sb, offsetof(IbSplitFootprint<4>, split)));
+          expect_same_bits(sa, sb);
         }
         continue;
       }
