@@ -11,14 +11,15 @@ namespace dld::fluid {
 inline constexpr int kIbBatch = 16;
 
 struct Peskin4AxisBatch {
-  double w[3][4][kIbBatch];   ///< axis (x, y, z), node, marker: unnormalised weights
-  double first[3][kIbBatch];  ///< each axis's first support node (x folded into the box)
+  double w[3][4][kIbBatch];  ///< axis (x, y, z), node, marker: unnormalised weights
+  /// each axis's first support node: x folded into the box, y wrapped into [0, ny)
+  double first[3][kIbBatch];
 };
 
 /// Markers index[0..n), n <= kIbBatch, of `positions` (3 per marker, lattice units): x folded
 /// into [0, nx) (y lowered by `shift` per box), then the Peskin-4 weights on each axis. A
 /// non-finite position gives non-finite entries (the caller checks the position).
 void peskin4_axis_batch(const double* positions, const std::uint32_t* index, int n, double nx,
-                        double shift, Peskin4AxisBatch& out);
+                        double ny, double shift, Peskin4AxisBatch& out);
 
 }  // namespace dld::fluid

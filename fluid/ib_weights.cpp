@@ -198,7 +198,7 @@ bool ImmersedBoundary::place_split_footprint(int i0, double Y, const double* wy_
     } else {
       j0 = axis_weights<W>(kernel_, Y - box * d.shift, fp.wy[part]);
     }
-    const int jw0 = ((j0 % d.ny) + d.ny) % d.ny;
+    const int jw0 = j0 >= 0 && j0 < d.ny ? j0 : ((j0 % d.ny) + d.ny) % d.ny;
     const int first = part == 0 ? i0 - box * d.nx : 0;  // the part's first column in its box
     fp.x0[part] = static_cast<std::size_t>(first) + 1;
     const int columns = part == 0 ? fp.split : W - fp.split;

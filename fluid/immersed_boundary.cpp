@@ -214,7 +214,7 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
   // interpolation, and computes their axis weights SIMD across markers.
   constexpr bool keep = W == 4;
   assert(W != 4 || kernel_ == IbKernel::kPeskin4);
-  const auto nx = static_cast<double>(lattice_.nx());
+  const auto nx = static_cast<double>(lattice_.nx()), ny = static_cast<double>(lattice_.ny());
   const double shift = lattice_.domain().shift;
   if (keep) {
     spread_footprints_.resize(markers);
@@ -256,7 +256,7 @@ void ImmersedBoundary::spread_w(std::span<const double> positions, std::span<con
             const int lane = static_cast<int>((q - begin) % kIbBatch);
             if (lane == 0) {
               const int count = static_cast<int>(std::min<std::uint32_t>(kIbBatch, end - q));
-              peskin4_axis_batch(positions.data(), &order_[q], count, nx, shift, axes);
+              peskin4_axis_batch(positions.data(), &order_[q], count, nx, ny, shift, axes);
               batched_footprints(axes, count, positions.data(), &order_[q], &spread_footprints_[q],
                                  batch_separable);
             }
@@ -364,7 +364,7 @@ void ImmersedBoundary::interpolate_moved(std::span<const double> positions,
     sort_by_column();
   }
   const std::vector<std::uint32_t>& order = reuse ? order_ : by_column_;
-  const auto nx = static_cast<double>(lattice_.nx());
+  const auto nx = static_cast<double>(lattice_.nx()), ny = static_cast<double>(lattice_.ny());
   const double shift = lattice_.domain().shift;
   const auto batches = static_cast<std::int64_t>((markers + kIbBatch - 1) / kIbBatch);
   std::size_t bad = markers;  // first marker without fluid around it, if any
@@ -376,7 +376,7 @@ void ImmersedBoundary::interpolate_moved(std::span<const double> positions,
     Peskin4AxisBatch axes;
     IbFootprint<4> fp[kIbBatch];
     bool separable[kIbBatch];
-    peskin4_axis_batch(positions.data(), index, count, nx, shift, axes);
+    peskin4_axis_batch(positions.data(), index, count, nx, ny, shift, axes);
     batched_footprints(axes, count, positions.data(), index, fp, separable);
     for (int lane = 0; lane < count; ++lane) {
       const std::size_t m = index[lane];

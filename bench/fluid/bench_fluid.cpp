@@ -249,7 +249,8 @@ BENCHMARK(BM_IbCoupledStep)
     ->Unit(benchmark::kMicrosecond);
 
 // The same on a production run's markers (the positions of a membrane checkpoint, with cells
-// squeezing past the pillar: the near-solid stencils the clouds above avoid). Registered only when
+// squeezing past the pillar: the near-solid stencils the clouds above avoid; and y many boxes
+// away after a displaced run). Registered only when
 // DLD_BENCH_SCENE (the run's scene.toml) and DLD_BENCH_POSITIONS (its run-cells-K.ckpt.h5) are set:
 //   DLD_BENCH_SCENE=runs/.../scene.toml DLD_BENCH_POSITIONS=runs/.../run-cells-0.ckpt.h5
 //   build/bench/fluid/bench_fluid --benchmark_filter=BM_IbCoupledStepOfRun (the two set first)
@@ -274,6 +275,23 @@ void BM_IbCoupledStepOfRun(benchmark::State& state, const std::string& scene_fil
   state.counters["stencil"] = static_cast<double>(markers - separable - split);
 }
 
+// A held step's interpolation (`fast`) on a production run's markers: spread once, then interpolate
+// at the markers moved since. Registered with BM_IbCoupledStepOfRun.
+void BM_IbHeldStepOfRun(benchmark::State& state, const std::string& scene_file,
+                        const std::string& positions_file) {
+  omp_set_num_threads(static_cast<int>(state.range(0)));
+  FluidSolver s(dld::fluid::fluid_config(dld::load_scene(scene_file)));
+  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
+  auto x = dld::H5File(positions_file, dld::H5File::Mode::kRead).read("membrane/positions");
+  const std::vector<double> f(x.size(), 1e-6);
+  std::vector<double> u(x.size());
+  ib.spread(x, f, s.force_field());
+  s.step();
+  for (double& v : x) v += 1e-3;  // about four held steps of a dense run's fastest nodes
+  for (auto _ : state) ib.interpolate(x, s.velocity_field(), u);
+  state.counters["markers"] = static_cast<double>(x.size() / 3);
+}
+
 void register_run_benchmark() {
   const char* scene = std::getenv("DLD_BENCH_SCENE");
   const char* positions = std::getenv("DLD_BENCH_POSITIONS");
@@ -282,6 +300,11 @@ void register_run_benchmark() {
                                std::string(positions))
       ->Arg(1)
       ->Arg(2)
+      ->UseRealTime()
+      ->Unit(benchmark::kMicrosecond);
+  benchmark::RegisterBenchmark("BM_IbHeldStepOfRun", BM_IbHeldStepOfRun, std::string(scene),
+                               std::string(positions))
+      ->Arg(1)
       ->UseRealTime()
       ->Unit(benchmark::kMicrosecond);
 }

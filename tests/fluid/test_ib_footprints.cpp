@@ -130,6 +130,8 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   auto pos = markers_everywhere(L, 1000, 23);
   for (std::size_t m = 0; m < 100; ++m)
     pos[3 * m] += static_cast<double>(m % 5) * L.nx() - 2.0 * L.nx();
+  for (std::size_t m = 100; m < 200; ++m)  // many boxes away in y (a displaced cell's markers)
+    pos[3 * m + 1] += static_cast<double>(static_cast<int>(m % 7) - 3) * 1000.0 * L.ny();
   pos[std::size_t{3} * 7] = std::nan("");
   pos[3 * 8 + 2] = INFINITY;
   const std::size_t markers = pos.size() / 3;
@@ -139,7 +141,7 @@ TEST(ImmersedBoundary, BatchedFootprintEqualsTheMarkerByMarkerOneBitForBit) {
   for (std::size_t q0 = 0; q0 < markers; q0 += kIbBatch) {
     const int n = static_cast<int>(std::min<std::size_t>(kIbBatch, markers - q0));
     Peskin4AxisBatch axes;
-    peskin4_axis_batch(pos.data(), &index[q0], n, L.nx(), L.domain().shift, axes);
+    peskin4_axis_batch(pos.data(), &index[q0], n, L.nx(), L.ny(), L.domain().shift, axes);
     for (int l = 0; l < n; ++l) {
       const double* p = &pos[std::size_t{3} * index[q0 + static_cast<std::size_t>(l)]];
       IbFootprint<4> a, b;
