@@ -261,18 +261,22 @@ void BM_IbCoupledStepOfRun(benchmark::State& state, const std::string& scene_fil
   const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
   auto x = dld::H5File(positions_file, dld::H5File::Mode::kRead).read("membrane/positions");
   time_coupled_ib(state, s, ib, x);
-  std::size_t separable = 0, split = 0, markers = x.size() / 3;
+  std::size_t separable = 0, split = 0, masked = 0, markers = x.size() / 3;
   for (std::size_t m = 0; m < markers; ++m) {
     dld::fluid::IbFootprint<4> fp;
     dld::fluid::IbSplitFootprint<4> sp;
+    dld::fluid::IbMaskedFootprint<4> mp;
     if (ib.footprint<4>(&x[3 * m], fp))
       ++separable;
     else if (ib.split_footprint<4>(&x[3 * m], sp))
       ++split;
+    else if (ib.masked_footprint<4>(&x[3 * m], mp))
+      ++masked;
   }
   state.counters["markers"] = static_cast<double>(markers);
   state.counters["split"] = static_cast<double>(split);
-  state.counters["stencil"] = static_cast<double>(markers - separable - split);
+  state.counters["masked"] = static_cast<double>(masked);
+  state.counters["stencil"] = static_cast<double>(markers - separable - split - masked);
 }
 
 // A held step's interpolation (`fast`) on a production run's markers: spread once, then interpolate
