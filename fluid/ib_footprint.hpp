@@ -35,6 +35,35 @@ inline V4 load4(const double* p) {
 inline void store4(double* p, V4 v) {
   __builtin_memcpy(p, &v, sizeof v);
 }
+
+/// The rows of a 4-point spread: field[d][node(c, b) + a] += wz[c] wy[b] g_d[b][a], where g_d
+/// is the x weights times force component d, one for every row (kRowsOfG = 1, a separable
+/// footprint) or one per y row (4, a masked footprint). Everything the rows need is in locals
+/// first: the field's stores could otherwise alias the weights and the field pointers (behind
+/// OpenMP's shared-variable struct), which the compiler would then reload after every store.
+template <int kRowsOfG>
+inline void spread_rows4(const double* wz, const double* wy, const std::size_t* layer,
+                         const std::size_t* row, std::size_t x0, const V4* g0, const V4* g1,
+                         const V4* g2, double* const field[3]) {
+  double* const f0 = field[0];
+  double* const f1 = field[1];
+  double* const f2 = field[2];
+  double wzy[16];
+  std::size_t node[16];
+  for (int c = 0; c < 4; ++c)
+    for (int b = 0; b < 4; ++b) {
+      wzy[4 * c + b] = wz[c] * wy[b];
+      node[4 * c + b] = layer[c] + row[b] + x0;
+    }
+  for (int r = 0; r < 16; ++r) {
+    const double w = wzy[r];
+    const std::size_t n = node[r];
+    const int b = kRowsOfG == 1 ? 0 : r % 4;
+    store4(f0 + n, load4(f0 + n) + w * g0[b]);
+    store4(f1 + n, load4(f1 + n) + w * g1[b]);
+    store4(f2 + n, load4(f2 + n) + w * g2[b]);
+  }
+}
 }  // namespace detail
 
 /// Weights of the W nodes a..a+W-1 around coordinate `c` on one axis (the first node is
@@ -63,29 +92,10 @@ inline int axis_weights(IbKernel kernel, double c, double* w) {
 template <int W>
 inline void spread_footprint(const IbFootprint<W>& p, const double* f, double* const field[3]) {
   if constexpr (W == 4) {
-    // Everything the rows need is copied to locals first: the field's stores could otherwise
-    // alias the footprint's weights and the field pointers (behind OpenMP's shared-variable
-    // struct), which the compiler would then reload after every store.
     using detail::V4;
-    double* const f0 = field[0];
-    double* const f1 = field[1];
-    double* const f2 = field[2];
     const V4 wx = detail::load4(p.wx);
     const V4 g0 = wx * f[0], g1 = wx * f[1], g2 = wx * f[2];
-    double wzy[16];
-    std::size_t node[16];
-    for (int c = 0; c < 4; ++c)
-      for (int b = 0; b < 4; ++b) {
-        wzy[4 * c + b] = p.wz[c] * p.wy[b];
-        node[4 * c + b] = p.layer[c] + p.row[b] + p.x0;
-      }
-    for (int r = 0; r < 16; ++r) {
-      const double w = wzy[r];
-      const std::size_t n = node[r];
-      detail::store4(f0 + n, detail::load4(f0 + n) + w * g0);
-      detail::store4(f1 + n, detail::load4(f1 + n) + w * g1);
-      detail::store4(f2 + n, detail::load4(f2 + n) + w * g2);
-    }
+    detail::spread_rows4<1>(p.wz, p.wy, p.layer, p.row, p.x0, &g0, &g1, &g2, field);
     return;
   }
   for (int c = 0; c < W; ++c)

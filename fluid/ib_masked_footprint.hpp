@@ -27,31 +27,13 @@ template <int W>
 inline void spread_footprint(const IbMaskedFootprint<W>& p, const double* f,
                              double* const field[3]) {
   if constexpr (W == 4) {
-    // Locals first, as in spread_footprint(IbFootprint): the stores could alias the footprint.
     using detail::V4;
-    double* const f0 = field[0];
-    double* const f1 = field[1];
-    double* const f2 = field[2];
     V4 g0[4], g1[4], g2[4];
     for (int b = 0; b < 4; ++b) {
       const V4 wx = detail::load4(p.wx[b]);
       g0[b] = wx * f[0], g1[b] = wx * f[1], g2[b] = wx * f[2];
     }
-    double wzy[16];
-    std::size_t node[16];
-    for (int c = 0; c < 4; ++c)
-      for (int b = 0; b < 4; ++b) {
-        wzy[4 * c + b] = p.wz[c] * p.wy[b];
-        node[4 * c + b] = p.layer[c] + p.row[b] + p.x0;
-      }
-    for (int r = 0; r < 16; ++r) {
-      const double w = wzy[r];
-      const std::size_t n = node[r];
-      const int b = r % 4;
-      detail::store4(f0 + n, detail::load4(f0 + n) + w * g0[b]);
-      detail::store4(f1 + n, detail::load4(f1 + n) + w * g1[b]);
-      detail::store4(f2 + n, detail::load4(f2 + n) + w * g2[b]);
-    }
+    detail::spread_rows4<4>(p.wz, p.wy, p.layer, p.row, p.x0, g0, g1, g2, field);
     return;
   }
   for (int c = 0; c < W; ++c)

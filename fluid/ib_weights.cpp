@@ -15,6 +15,32 @@ int floor_div(int a, int n) {
   return a >= 0 ? a / n : -((-a + n - 1) / n);
 }
 
+/// Lane `lane` of a batch of axis weights into wx, wy, wz; false if the marker at p is not
+/// finite or the box is too thin for a 4-wide support in y or z.
+bool lane_weights(const Domain& d, const Peskin4AxisBatch& axes, int lane, const double* p,
+                  double* wx, double* wy, double* wz) {
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
+  if (d.ny < 4 || d.nz < 4) return false;
+  for (int a = 0; a < 4; ++a) {
+    wx[a] = axes.w[0][a][lane];
+    wy[a] = axes.w[1][a][lane];
+    wz[a] = axes.w[2][a][lane];
+  }
+  return true;
+}
+
+/// A marker's x folded into [0, nx) and its y moved with it (one box along x is the shift along
+/// y); false if it is not finite or the box is too thin for a W-wide support in y or z.
+template <int W>
+bool fold_into_box(const Domain& d, const double* p, double& X, double& Y) {
+  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
+  if (d.ny < W || d.nz < W) return false;  // a row or layer would repeat
+  const double wraps = std::floor(p[0] / d.nx);
+  X = p[0] - wraps * d.nx;
+  Y = p[1] - wraps * d.shift;
+  return true;
+}
+
 /// The z layers a stencil at height Z reaches: padded index of (-1, -1, k) and weight of each
 /// (by walls the layers outside are left out; periodic z wraps); returns how many.
 int stencil_layers(const Lattice& L, IbKernel kernel, double Z, std::size_t* zoff, double* wz) {
@@ -148,32 +174,21 @@ template <int W>
 template <int W>
 bool ImmersedBoundary::split_footprint(const double* p, IbSplitFootprint<W>& fp) const {
   const Domain& d = lattice_.domain();
-  double X = p[0], Y = p[1];
-  const double Z = p[2];
-  if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z)) return false;
-  if (d.nx < W || d.ny < W || d.nz < W) return false;
-  const double wraps = std::floor(X / d.nx);
-  X -= wraps * d.nx;
-  Y -= wraps * d.shift;
+  double X = 0, Y = 0;
+  if (d.nx < W || !fold_into_box<W>(d, p, X, Y)) return false;
   const int i0 = axis_weights<W>(kernel_, X, fp.wx);
   if (i0 >= 0 && i0 + W <= d.nx) return false;  // inside one box: footprint()
-  z_layers<W>(Z, fp.wz, fp.layer);
+  z_layers<W>(p[2], fp.wz, fp.layer);
   return place_split_footprint<W>(i0, Y, nullptr, 0, fp);
 }
 
 bool ImmersedBoundary::batched_split_footprint(const Peskin4AxisBatch& axes, int lane,
                                                const double* p, IbSplitFootprint<4>& fp) const {
   const Domain& d = lattice_.domain();
-  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
-  if (d.nx < 4 || d.ny < 4 || d.nz < 4) return false;
-  const int i0 = static_cast<int>(axes.first[0][lane]);
-  if (i0 >= 0 && i0 + 4 <= d.nx) return false;  // inside one box
   double wy[4];
-  for (int a = 0; a < 4; ++a) {
-    fp.wx[a] = axes.w[0][a][lane];
-    wy[a] = axes.w[1][a][lane];
-    fp.wz[a] = axes.w[2][a][lane];
-  }
+  if (d.nx < 4 || !lane_weights(d, axes, lane, p, fp.wx, wy, fp.wz)) return false;
+  const int i0 = static_cast<int>(axes.first[0][lane]);  // finite: lane_weights checked
+  if (i0 >= 0 && i0 + 4 <= d.nx) return false;           // inside one box: footprint()
   fit_z_layers<4>(static_cast<int>(axes.first[2][lane]), fp.wz, fp.layer);
   const double wraps = std::floor(p[0] / d.nx);  // as peskin4_axis_batch folds it
   return place_split_footprint<4>(i0, p[1] - wraps * d.shift, wy,
@@ -226,16 +241,11 @@ template bool ImmersedBoundary::split_footprint<4>(const double*, IbSplitFootpri
 template <int W>
 bool ImmersedBoundary::footprint(const double* p, IbFootprint<W>& fp) const {
   const Domain& d = lattice_.domain();
-  double X = p[0], Y = p[1];
-  const double Z = p[2];
-  if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z)) return false;
-  if (d.ny < W || d.nz < W) return false;  // a row or layer would repeat
-  const double wraps = std::floor(X / d.nx);
-  X -= wraps * d.nx;
-  Y -= wraps * d.shift;
+  double X = 0, Y = 0;
+  if (!fold_into_box<W>(d, p, X, Y)) return false;
   const int i0 = axis_weights<W>(kernel_, X, fp.wx);
   if (i0 < 0 || i0 + W > d.nx) return false;  // across the shifted x face
-  const int k0 = axis_weights<W>(kernel_, Z, fp.wz);
+  const int k0 = axis_weights<W>(kernel_, p[2], fp.wz);
   return place_footprint<W>(i0, axis_weights<W>(kernel_, Y, fp.wy), k0, fp);
 }
 
@@ -270,14 +280,7 @@ bool ImmersedBoundary::batched_footprint(const Peskin4AxisBatch& axes, int lane,
 [[gnu::always_inline]] inline bool ImmersedBoundary::lane_footprint(const Peskin4AxisBatch& axes,
                                                                     int lane, const double* p,
                                                                     IbFootprint<4>& fp) const {
-  const Domain& d = lattice_.domain();
-  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
-  if (d.ny < 4 || d.nz < 4) return false;
-  for (int a = 0; a < 4; ++a) {
-    fp.wx[a] = axes.w[0][a][lane];
-    fp.wy[a] = axes.w[1][a][lane];
-    fp.wz[a] = axes.w[2][a][lane];
-  }
+  if (!lane_weights(lattice_.domain(), axes, lane, p, fp.wx, fp.wy, fp.wz)) return false;
   return place_footprint<4>(static_cast<int>(axes.first[0][lane]),
                             static_cast<int>(axes.first[1][lane]),
                             static_cast<int>(axes.first[2][lane]), fp);
@@ -296,31 +299,18 @@ void ImmersedBoundary::batched_footprints(const Peskin4AxisBatch& axes, int coun
 // (sum of wz). The same nodes and weights as stencil(), up to the order of the sums.
 template <int W>
 bool ImmersedBoundary::masked_footprint(const double* p, IbMaskedFootprint<W>& fp) const {
-  const Domain& d = lattice_.domain();
-  double X = p[0], Y = p[1];
-  const double Z = p[2];
-  if (!std::isfinite(X) || !std::isfinite(Y) || !std::isfinite(Z)) return false;
-  if (d.ny < W || d.nz < W) return false;  // a row or layer would repeat
-  const double wraps = std::floor(X / d.nx);
-  X -= wraps * d.nx;
-  Y -= wraps * d.shift;
+  double X = 0, Y = 0;
+  if (!fold_into_box<W>(lattice_.domain(), p, X, Y)) return false;
   double wx[W], wy[W];
   const int i0 = axis_weights<W>(kernel_, X, wx);
   const int j0 = axis_weights<W>(kernel_, Y, wy);
-  return place_masked_footprint<W>(i0, j0, axis_weights<W>(kernel_, Z, fp.wz), wx, wy, fp);
+  return place_masked_footprint<W>(i0, j0, axis_weights<W>(kernel_, p[2], fp.wz), wx, wy, fp);
 }
 
 bool ImmersedBoundary::batched_masked_footprint(const Peskin4AxisBatch& axes, int lane,
                                                 const double* p, IbMaskedFootprint<4>& fp) const {
-  const Domain& d = lattice_.domain();
-  if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return false;
-  if (d.ny < 4 || d.nz < 4) return false;
   double wx[4], wy[4];
-  for (int a = 0; a < 4; ++a) {
-    wx[a] = axes.w[0][a][lane];
-    wy[a] = axes.w[1][a][lane];
-    fp.wz[a] = axes.w[2][a][lane];
-  }
+  if (!lane_weights(lattice_.domain(), axes, lane, p, wx, wy, fp.wz)) return false;
   return place_masked_footprint<4>(static_cast<int>(axes.first[0][lane]),
                                    static_cast<int>(axes.first[1][lane]),
                                    static_cast<int>(axes.first[2][lane]), wx, wy, fp);

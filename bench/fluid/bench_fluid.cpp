@@ -254,13 +254,23 @@ BENCHMARK(BM_IbCoupledStep)
 // DLD_BENCH_SCENE (the run's scene.toml) and DLD_BENCH_POSITIONS (its run-cells-K.ckpt.h5) are set:
 //   DLD_BENCH_SCENE=runs/.../scene.toml DLD_BENCH_POSITIONS=runs/.../run-cells-0.ckpt.h5
 //   build/bench/fluid/bench_fluid --benchmark_filter=BM_IbCoupledStepOfRun (the two set first)
+struct RunMarkers {
+  RunMarkers(const std::string& scene_file, const std::string& positions_file)
+      : solver(dld::fluid::fluid_config(dld::load_scene(scene_file))),
+        ib(solver.lattice(), dld::fluid::IbKernel::kPeskin4),
+        x(dld::H5File(positions_file, dld::H5File::Mode::kRead).read("membrane/positions")) {}
+  FluidSolver solver;
+  dld::fluid::ImmersedBoundary ib;
+  std::vector<double> x;
+};
+
 void BM_IbCoupledStepOfRun(benchmark::State& state, const std::string& scene_file,
                            const std::string& positions_file) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
-  FluidSolver s(dld::fluid::fluid_config(dld::load_scene(scene_file)));
-  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
-  auto x = dld::H5File(positions_file, dld::H5File::Mode::kRead).read("membrane/positions");
-  time_coupled_ib(state, s, ib, x);
+  RunMarkers run(scene_file, positions_file);
+  const dld::fluid::ImmersedBoundary& ib = run.ib;
+  std::vector<double>& x = run.x;
+  time_coupled_ib(state, run.solver, ib, x);
   std::size_t separable = 0, split = 0, masked = 0, markers = x.size() / 3;
   for (std::size_t m = 0; m < markers; ++m) {
     dld::fluid::IbFootprint<4> fp;
@@ -284,15 +294,14 @@ void BM_IbCoupledStepOfRun(benchmark::State& state, const std::string& scene_fil
 void BM_IbHeldStepOfRun(benchmark::State& state, const std::string& scene_file,
                         const std::string& positions_file) {
   omp_set_num_threads(static_cast<int>(state.range(0)));
-  FluidSolver s(dld::fluid::fluid_config(dld::load_scene(scene_file)));
-  const dld::fluid::ImmersedBoundary ib(s.lattice(), dld::fluid::IbKernel::kPeskin4);
-  auto x = dld::H5File(positions_file, dld::H5File::Mode::kRead).read("membrane/positions");
+  RunMarkers run(scene_file, positions_file);
+  std::vector<double>& x = run.x;
   const std::vector<double> f(x.size(), 1e-6);
   std::vector<double> u(x.size());
-  ib.spread(x, f, s.force_field());
-  s.step();
+  run.ib.spread(x, f, run.solver.force_field());
+  run.solver.step();
   for (double& v : x) v += 1e-3;  // about four held steps of a dense run's fastest nodes
-  for (auto _ : state) ib.interpolate(x, s.velocity_field(), u);
+  for (auto _ : state) run.ib.interpolate(x, run.solver.velocity_field(), u);
   state.counters["markers"] = static_cast<double>(x.size() / 3);
 }
 
