@@ -39,6 +39,14 @@ std::string steps_text(double s) {
   return out;
 }
 
+/// The first sample step from which on the track's x stays within `band` of its last x.
+double still_since(const CellTrack& t, double band) {
+  const double x_last = t.position.back()[0];
+  std::size_t i = t.position.size() - 1;
+  while (i > 0 && std::abs(t.position[i - 1][0] - x_last) < band) --i;
+  return t.step[i];
+}
+
 }  // namespace
 
 double RunPace::mean_steps_per_pillar() const {
@@ -57,6 +65,15 @@ double RunPace::step_every_cell_at(double n, int* slowest) const {
   return cells.empty() ? last_step : last;
 }
 
+std::vector<CellPace> RunPace::held_cells(double factor) const {
+  std::vector<CellPace> held;
+  const double pillar = mean_steps_per_pillar();
+  if (!std::isfinite(pillar)) return held;
+  for (const CellPace& c : cells)
+    if (last_step - c.still_since > factor * pillar) held.push_back(c);
+  return held;
+}
+
 RunPace run_pace(const Run& run) {
   RunPace p;
   std::vector<double> pillars;
@@ -72,6 +89,9 @@ RunPace run_pace(const Run& run) {
     c.pillars = (t.position.back()[0] - t.position.front()[0]) / run.lambda_um;
     const double elapsed = t.step.back() - t.step.front();
     c.steps_per_pillar = c.pillars > 0 ? elapsed / c.pillars : kInf;
+    c.still_since = still_since(t, 0.25 * run.lambda_um);
+    c.x_um = t.position.back()[0];
+    c.y_um = t.position.back()[1];
     pillars.push_back(c.pillars);
     p.cells.push_back(c);
   }
@@ -99,6 +119,13 @@ std::string format_pace(const Run& run, const RunPace& p, int n) {
       "every cell at {} pillars (the stop rule) at the pace so far: step {} (cell {} last)\n",
       p.mean_pillars, steps_text(p.mean_steps_per_pillar()), p.median_pillars, n, steps_text(end),
       slowest);
+  for (const CellPace& c : p.held_cells()) {
+    s += fmt::format(
+        "held: cell {} has stayed within lambda/4 in x since step {} ({} steps, {:.1f} times the "
+        "mean cell's steps per pillar), at ({:.1f}, {:.1f}) um: its pace so far is no forecast\n",
+        c.id, steps_text(c.still_since), steps_text(p.last_step - c.still_since),
+        (p.last_step - c.still_since) / p.mean_steps_per_pillar(), c.x_um, c.y_um);
+  }
   return s;
 }
 
@@ -108,13 +135,13 @@ std::string write_pace_csv(const RunPace& p, int n, const std::string& dir,
   std::filesystem::create_directories(dir, ec);
   std::string path = (std::filesystem::path(dir) / (base + "-pace.csv")).string();
   std::ofstream out(path);
-  out << "cell,pillars,steps_per_pillar,step_at_" << n << "_pillars\n";
+  out << "cell,pillars,steps_per_pillar,step_at_" << n << "_pillars,still_since_step\n";
   for (const CellPace& c : p.cells) {
     const double at = step_at(c, n, p.first_step, p.last_step);
     out << fmt::format(
-        "{},{:.4f},{},{}\n", c.id, c.pillars,
+        "{},{:.4f},{},{},{:.0f}\n", c.id, c.pillars,
         std::isfinite(c.steps_per_pillar) ? fmt::format("{:.0f}", c.steps_per_pillar) : "",
-        std::isfinite(at) ? fmt::format("{:.0f}", at) : "");
+        std::isfinite(at) ? fmt::format("{:.0f}", at) : "", c.still_since);
   }
   if (!out) throw InputError(fmt::format("{}: cannot write", path));
   return path;

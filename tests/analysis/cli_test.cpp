@@ -119,7 +119,7 @@ TEST(DldAnalyze, PaceReportsEachCellAndTheStepOfTheStopRuleWithoutEvaluating) {
   EXPECT_NE(r.output.find("step 8 000 000 (cell 1 last)"), std::string::npos) << r.output;
   const auto csv = lines(dir + "/out/run-pace.csv");
   ASSERT_EQ(csv.size(), 3u);
-  EXPECT_EQ(csv[2], "1,0.1500,400000,8000000");
+  EXPECT_EQ(csv[2].substr(0, csv[2].rfind(',')), "1,0.1500,400000,8000000");
   EXPECT_FALSE(fs::exists(dir + "/out/run-summary.csv"));
 }
 

@@ -63,6 +63,36 @@ TEST(Pace, ACellThatHasNotAdvancedNeverArrives) {
   EXPECT_NEAR(q.step_every_cell_at(2), 200000, 1e-6);
 }
 
+// A cell that advances 3 columns in the first 100 000 steps and then stays at a pillar (x within
+// a few um) for the other 300 000 is held, and said so; the cells that keep moving are not.
+TEST(Pace, ACellStoppedForLongIsReportedHeldSinceItStopped) {
+  CellTrack held = track(2, 10.0, 5.0, 3.0, flat, 1000);  // 3 columns in 100 000 steps
+  for (int s = 1; s <= 3000; ++s) {
+    held.step.push_back(100000.0 + 100.0 * s);
+    held.position.push_back({10.0 + 3 * kLambda + 2.0 * std::sin(s * 0.01), 5.0 - 0.002 * s, 2.4});
+    held.volume.push_back(94.0);
+  }
+  CellTrack a = track(0, 3.0, 1.0, 16.0, flat, 4000), b = track(1, 5.0, 8.0, 12.0, flat, 4000);
+  const analysis::Run r = run_of({a, b, held});
+  const RunPace p = run_pace(r);
+  ASSERT_EQ(p.held_cells().size(), 1u);
+  EXPECT_EQ(p.held_cells()[0].id, 2);
+  // Its last x is 106 + 2 sin 30 = 104.02 um; the approach enters the band x > 96.02 at sample
+  // 897 (x = 10 + 96 s / 1000): held since step 89 700.
+  EXPECT_DOUBLE_EQ(p.held_cells()[0].still_since, 89700);
+  const std::string table = format_pace(r, p, 20);
+  EXPECT_NE(table.find("held: cell 2 has stayed within lambda/4 in x since step 89 700 "),
+            std::string::npos)
+      << table;
+  EXPECT_EQ(table.find("held: cell 0"), std::string::npos) << table;
+  // The same cell held for less than twice the mean cell's steps per pillar is only slow.
+  held.step.resize(1000 + 200);
+  held.position.resize(1000 + 200);
+  held.volume.resize(1000 + 200);
+  a = track(0, 3.0, 1.0, 1.2, flat, 1200), b = track(1, 5.0, 8.0, 1.2, flat, 1200);
+  EXPECT_TRUE(run_pace(run_of({a, b, held})).held_cells().empty());
+}
+
 TEST(Pace, OneSampleIsAnErrorNamingTheFileAndCell) {
   CellTrack t = track(5, 3.0, 1.0, 2.0, flat);
   t.step.resize(1);
@@ -84,9 +114,11 @@ TEST(Pace, TheTableNamesTheLastCellAndTheCsvHasOneRowPerCell) {
   std::getline(in, header);
   std::getline(in, row0);
   std::getline(in, row1);
-  EXPECT_EQ(header, "cell,pillars,steps_per_pillar,step_at_20_pillars");
-  EXPECT_EQ(row0, "0,2.0000,100000,2000000");
-  EXPECT_EQ(row1, "1,0.5000,400000,8000000");
+  EXPECT_EQ(header, "cell,pillars,steps_per_pillar,step_at_20_pillars,still_since_step");
+  // Moving cells: x entered the band lambda/4 = 8 um below its last value at x = 59 (cell 0,
+  // sample 1751) and x = 13 (cell 1, sample 1001).
+  EXPECT_EQ(row0, "0,2.0000,100000,2000000,175100");
+  EXPECT_EQ(row1, "1,0.5000,400000,8000000,100100");
   EXPECT_FALSE(std::getline(in, more));
 }
 
