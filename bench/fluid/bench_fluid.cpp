@@ -302,7 +302,8 @@ void BM_IbHeldStepOfRun(benchmark::State& state, const std::string& scene_file,
   run.solver.step();
   for (double& v : x) v += 1e-3;  // about four held steps of a dense run's fastest nodes
   for (auto _ : state) run.ib.interpolate(x, run.solver.velocity_field(), u);
-  state.counters["markers"] = static_cast<double>(x.size() / 3);
+  const std::size_t markers = x.size() / 3;
+  state.counters["markers"] = static_cast<double>(markers);
 }
 
 void register_run_benchmark() {
