@@ -99,9 +99,9 @@ void BM_KernelByBoxSize(benchmark::State& state) {
   }
   report(state, static_cast<double>(L.fluid_nodes()));
   state.counters["MB"] = 2.0 * 19 * 8 * static_cast<double>(n) / 1e6;
-  double blocks = 0;  // 8-node blocks the kernel updates, masked tails included
+  int blocks = 0;  // 8-node blocks the kernel updates, masked tails included
   for (const auto& run : L.segments()) blocks += (run.length + 7) / 8;
-  state.counters["blocks"] = blocks;
+  state.counters["blocks"] = static_cast<double>(blocks);
 }
 BENCHMARK(BM_KernelByBoxSize)
     ->Arg(0)
