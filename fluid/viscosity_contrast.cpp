@@ -105,16 +105,16 @@ void ViscosityContrast::update(std::span<const double> positions, RelaxationFiel
   }
   const auto cells = static_cast<std::int64_t>(cell_nodes_.size());
   const auto was_inside = static_cast<std::int64_t>(inside_.size());
+  // Only the nodes that change side are written to the field (a step moves a membrane by a small
+  // part of a spacing, so few do): mark_ has bit 0 for the nodes at tau_in since the last update
+  // and gets bit 1 for those inside now.
+  if (mark_.size() != field.size()) mark_.assign(field.size(), 0);
+  std::uint8_t* mark = mark_.data();
 #pragma omp parallel num_threads(threads)
   {
     Workspace& w = work_[static_cast<std::size_t>(omp_get_thread_num())];
     w.inside.clear();
     w.unpaired = 0;
-    // The nodes inside at the last update go back to tau_out first (the loop's barrier).
-#pragma omp for schedule(static)
-    for (std::int64_t q = 0; q < was_inside; ++q) {
-      field.set(inside_[static_cast<std::size_t>(q)], outside);
-    }
     // Cells differ in cost (one across the x face is rasterised in two boxes): dynamic. The
     // field does not depend on which thread takes which cell.
 #pragma omp for schedule(dynamic, 1)
@@ -123,8 +123,20 @@ void ViscosityContrast::update(std::span<const double> positions, RelaxationFiel
       rasterise_cell(positions.data() + 3 * first_node_[cell], cell, w);
       fill_cell(w);
     }
+    for (std::size_t n : w.inside) mark[n] |= 2;
+#pragma omp barrier
+      // Inside before and not now: back to tau_out (the loop's barrier follows).
+#pragma omp for schedule(static)
+    for (std::int64_t q = 0; q < was_inside; ++q) {
+      const std::size_t n = inside_[static_cast<std::size_t>(q)];
+      if (mark[n] == 1) {
+        field.set(n, outside);
+        mark[n] = 0;
+      }
+    }
     for (std::size_t n : w.inside) {
-      field.set(n, inside);
+      if (mark[n] == 2) field.set(n, inside);  // inside now and not before
+      mark[n] = 1;
     }
   }
   inside_.clear();

@@ -76,6 +76,7 @@ class ViscosityContrast {
   std::vector<std::size_t> first_node_, first_face_;
   std::vector<Workspace> work_;      ///< one per OpenMP thread
   std::vector<std::size_t> inside_;  ///< nodes currently at tau_in
+  std::vector<std::uint8_t> mark_;   ///< per padded node, see update()
   std::size_t unpaired_ = 0;
 };
 

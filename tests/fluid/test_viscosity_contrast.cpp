@@ -171,6 +171,34 @@ TEST(ViscosityContrast, MovingCellLeavesNoInnerViscosityBehind) {
   EXPECT_EQ(at_inner, vc.inside_nodes().size());
 }
 
+// The field is updated node by node where a membrane crossed (update() writes only the nodes that
+// change side): after every step of a cell moving by small steps, and of one jumping away and
+// back, it equals the field a fresh ViscosityContrast builds at those positions.
+TEST(ViscosityContrast, UpdatedFieldEqualsAFreshBuildAtEveryStep) {
+  const Domain d = box(5.0, true);
+  const Lattice L(d);
+  RelaxationField tau(L.padded_size(), 1.0, &Trt::rates, 3.0 / 16.0, false);
+  Sphere s = sphere(6.0, 6.0, 8.0, 4.0);
+  ViscosityContrast vc(L, 1.0, 3.0, s.nodes, s.faces, s.face_ids);
+  std::size_t changed = 0;
+  std::vector<double> before(tau.size());
+  for (int step = 0; step < 40; ++step) {
+    const double t = step < 30 ? 0.137 * step : 12.0 - 0.3 * step;  // slow, then jumps
+    s = sphere(6.0 + t, 6.0 + 0.5 * t, 8.0 + 0.05 * t, 4.0 + 0.01 * step);
+    for (std::size_t n = 0; n < tau.size(); ++n) before[n] = tau.tau(n);
+    vc.update(s.x, tau);
+    RelaxationField fresh(L.padded_size(), 1.0, &Trt::rates, 3.0 / 16.0, false);
+    ViscosityContrast(L, 1.0, 3.0, s.nodes, s.faces, s.face_ids).update(s.x, fresh);
+    for (std::size_t n = 0; n < tau.size(); ++n) {
+      ASSERT_EQ(tau.tau(n), fresh.tau(n)) << "node " << n << ", step " << step;
+      ASSERT_EQ(tau.plus()[n], fresh.plus()[n]);
+      ASSERT_EQ(tau.minus()[n], fresh.minus()[n]);
+      changed += tau.tau(n) != before[n];
+    }
+  }
+  EXPECT_GT(changed, 100U);  // the cell did move through nodes
+}
+
 TEST(ViscosityContrast, ColumnsThroughVerticesAndEdgesCountOneCrossing) {
   // The column (10.5, 10.5) runs exactly through the icosahedron's edge (0, +-1, t) at its top and
   // bottom, and after subdivision through the vertex that edge's midpoint became, shared by six
