@@ -19,7 +19,16 @@ void write_checkpoint(const std::string& path, const Scene& scene, const FluidSo
   {
     H5File f(tmp, H5File::Mode::kCreate);
     const std::size_t n = solver.lattice().padded_size() * D3Q19::q + kPopulationPadding;
-    f.write("/fluid/populations", solver.populations(), {n});
+    f.write("/fluid/populations", solver.pull_populations().data(), {n});
+    // Which slots a restart takes from the file (1: interior fluid node; the others are refilled
+    // before a step reads them), so that two programs' checkpoints can be compared where it
+    // matters (bench/coupler/compare-builds).
+    const Lattice& L = solver.lattice();
+    std::vector<std::int32_t> fluid(L.padded_size(), 0);
+    for (int k = 0; k < L.nz(); ++k)
+      for (int j = 0; j < L.ny(); ++j)
+        for (int i = 0; i < L.nx(); ++i) fluid[L.index(i, j, k)] = L.solid(i, j, k) ? 0 : 1;
+    f.write("/fluid/fluid_nodes", fluid.data(), {fluid.size()});
     const FluidSolver::Memory m = solver.memory();
     f.attribute("/fluid", "step", static_cast<std::int64_t>(m.steps));
     f.attribute("/fluid", "force_y", m.force_y);

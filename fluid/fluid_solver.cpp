@@ -34,7 +34,7 @@ FluidSolver::FluidSolver(const FluidConfig& config)
   for (int i = 0; i < D3Q19::q; ++i)
     for (std::size_t s = 0; s < n; ++s)
       if (!lattice_.solid_mask()[s]) f_[i * n + s] = D3Q19::w[i] * config.rho0;
-  g_ = f_;
+  if (!config.in_place) g_ = f_;  // the pull update's second array
   if (config.lateral_control) {
     const double h = config.domain.walls_z ? config.domain.nz : config.domain.ny;
     controller_ = std::make_unique<LateralController>(h, (config.tau - 0.5) / 3.0);
@@ -60,18 +60,32 @@ RelaxationField& FluidSolver::relaxation_field() {
 
 namespace {
 template <typename C>
-FlowSums dispatch_fields(bool ff, bool tf, const Lattice& L, const double* src, double* dst,
-                         const KernelParams& p) {
-  if (ff && tf) return stream_collide<C, true, true>(L, src, dst, p);
-  if (ff) return stream_collide<C, true, false>(L, src, dst, p);
-  if (tf) return stream_collide<C, false, true>(L, src, dst, p);
-  return stream_collide<C, false, false>(L, src, dst, p);
+FlowSums dispatch_fields(bool ff, bool tf, const Lattice& L, const PopulationView& in,
+                         const PopulationView& out, const KernelParams& p) {
+  if (ff && tf) return stream_collide<C, true, true>(L, in, out, p);
+  if (ff) return stream_collide<C, true, false>(L, in, out, p);
+  if (tf) return stream_collide<C, false, true>(L, in, out, p);
+  return stream_collide<C, false, false>(L, in, out, p);
 }
 }  // namespace
 
 void FluidSolver::step() {
-  fill_periodic_ghosts(lattice_, f_.data());
-  apply_bounce_back(lattice_, f_.data());
+  // Pull: from f_ to g_. In place: f_ alternates between the swapped and the shifted layout
+  // (fluid/population_view.hpp); the first step relabels the initial pull layout as swapped.
+  if (config_.in_place && layout_ == PopulationLayout::kPull) relabel_pull_as_swapped();
+  const PopulationView in(lattice_, f_.data(), layout_);
+  const PopulationLayout next = !config_.in_place ? PopulationLayout::kPull
+                                : layout_ == PopulationLayout::kSwapped
+                                    ? PopulationLayout::kShifted
+                                    : PopulationLayout::kSwapped;
+  const PopulationView out(lattice_, config_.in_place ? f_.data() : g_.data(), next);
+  fill_periodic_ghosts(lattice_, in);
+  if (config_.in_place) {
+    const BounceBackTables& t = bounce_back_tables(layout_);
+    apply_bounce_back(lattice_, t.links, t.curved, in, f_.data());
+  } else {
+    apply_bounce_back(lattice_, f_.data());
+  }
 
   KernelParams p;
   p.tau = config_.tau;
@@ -92,10 +106,14 @@ void FluidSolver::step() {
     p.rate_minus = relaxation_->minus();
   }
   sums_ = with_collision(config_.collision, [&]<typename C>() {
-    return dispatch_fields<C>(ff, tf, lattice_, f_.data(), g_.data(), p);
+    return dispatch_fields<C>(ff, tf, lattice_, in, out, p);
   });
   applied_force_y_ = force_y_;
-  f_.swap(g_);
+  if (config_.in_place) {
+    layout_ = next;
+  } else {
+    f_.swap(g_);
+  }
   velocity_current_ = ff;
   ++steps_;
   if (controller_) force_y_ = controller_->update(mean_velocity()[1]);
@@ -110,6 +128,7 @@ void FluidSolver::restore(const std::vector<double>& populations, const Memory& 
     throw std::invalid_argument(
         "FluidSolver::restore: population count does not match the lattice");
   f_.assign(populations.begin(), populations.end());
+  layout_ = PopulationLayout::kPull;
   steps_ = m.steps;
   force_y_ = m.force_y;
   applied_force_y_ = m.applied_force_y;
@@ -133,9 +152,10 @@ Moments FluidSolver::node_moments(int i, int j, int k) const {
     fy += force_field_[n + s];
     fz += force_field_[2 * n + s];
   }
+  const PopulationView post(lattice_, const_cast<double*>(f_.data()), layout_);
   double rho = 0, jx = 0, jy = 0, jz = 0;
   for (int q = 0; q < D3Q19::q; ++q) {
-    const double v = f_[q * n + s];
+    const double v = post(q, s);
     rho += v;
     jx += v * D3Q19::c[q][0];
     jy += v * D3Q19::c[q][1];

@@ -8,10 +8,12 @@
 #include <memory>
 #include <vector>
 
+#include "fluid/bounce_back.hpp"
 #include "fluid/collision.hpp"
 #include "fluid/huge_page_allocator.hpp"
 #include "fluid/lateral_controller.hpp"
 #include "fluid/lattice.hpp"
+#include "fluid/population_view.hpp"
 #include "fluid/relaxation_field.hpp"
 #include "fluid/stream_collide.hpp"
 #include "shared/scene.hpp"
@@ -29,6 +31,9 @@ struct FluidConfig {
   double rho0 = 1.0;  ///< initial density
   /// Back the per-node arrays with huge pages (fluid/huge_page_allocator.hpp).
   bool huge_pages = true;
+  /// One population array updated in place (the AA pattern, fluid/population_view.hpp) instead
+  /// of pulling from one array into another: the same arithmetic, a third less memory traffic.
+  bool in_place = true;
 };
 
 /// The fluid configuration a scene asks for (the DLD unit cell).
@@ -77,10 +82,13 @@ class FluidSolver {
   /// Restores a checkpoint: populations (padded SoA, as populations()) and memory.
   void restore(const std::vector<double>& populations, const Memory& m);
 
-  /// Current post-collision populations (SoA, stride lattice().padded_size()).
-  const double* populations() const { return f_.data(); }
+  /// The post-collision populations in the pull layout (SoA, stride lattice().padded_size()):
+  /// exact at fluid nodes; the other slots are refilled before a step reads them.
+  std::vector<double> pull_populations() const;
+  /// The populations for writing, in the pull layout (converted first if updated in place).
   double* populations() {
     velocity_current_ = false;  // the caller may change them
+    to_pull_layout();
     return f_.data();
   }
 
@@ -97,6 +105,13 @@ class FluidSolver {
   double applied_force_y_ = 0.0;  ///< y force of the last step (to recover u)
   std::unique_ptr<LateralController> controller_;
   std::int64_t steps_ = 0;
+  PopulationLayout layout_ = PopulationLayout::kPull;  ///< where f_ keeps post(q, x)
+  std::unique_ptr<BounceBackTables> swapped_links_, shifted_links_;
+
+  /// The in-place update's layouts (fluid/population_layout.cpp).
+  void relabel_pull_as_swapped();
+  void to_pull_layout();
+  const BounceBackTables& bounce_back_tables(PopulationLayout layout);
 };
 
 }  // namespace dld::fluid

@@ -21,18 +21,21 @@ int wrap(int j, int n) {
 }  // namespace
 
 void fill_periodic_ghosts(const Lattice& L, double* f) {
+  fill_periodic_ghosts(L, PopulationView(L, f, PopulationLayout::kPull));
+}
+
+void fill_periodic_ghosts(const Lattice& L, const PopulationView& v) {
   static const std::vector<int> up_y = directions_with(1, +1), down_y = directions_with(1, -1);
   static const std::vector<int> up_x = directions_with(0, +1), down_x = directions_with(0, -1);
   static const std::vector<int> up_z = directions_with(2, +1), down_z = directions_with(2, -1);
-  const std::size_t n = L.padded_size();
   const int nx = L.nx(), ny = L.ny(), nz = L.nz();
 
   // y: row -1 is row ny-1 (pulled by populations moving up), row ny is row 0.
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < nz; ++k)
     for (int i = 0; i < nx; ++i) {
-      for (int q : up_y) f[q * n + L.index(i, -1, k)] = f[q * n + L.index(i, ny - 1, k)];
-      for (int q : down_y) f[q * n + L.index(i, ny, k)] = f[q * n + L.index(i, 0, k)];
+      for (int q : up_y) v.base[q][L.index(i, -1, k)] = v.base[q][L.index(i, ny - 1, k)];
+      for (int q : down_y) v.base[q][L.index(i, ny, k)] = v.base[q][L.index(i, 0, k)];
     }
 
   // x: ghost (-1, j) holds what left through x = nx at height j + shift; ghost (nx, j) holds
@@ -52,11 +55,11 @@ void fill_periodic_ghosts(const Lattice& L, double* f) {
       const std::size_t r0 = L.index(0, wrap(j - di - 1, ny), k);
       const std::size_t r1 = L.index(0, wrap(j - di, ny), k);
       if (a == 0.0) {
-        for (int q : up_x) f[q * n + gl] = f[q * n + l0];
-        for (int q : down_x) f[q * n + gr] = f[q * n + r1];
+        for (int q : up_x) v.base[q][gl] = v.base[q][l0];
+        for (int q : down_x) v.base[q][gr] = v.base[q][r1];
       } else {
-        for (int q : up_x) f[q * n + gl] = (1.0 - a) * f[q * n + l0] + a * f[q * n + l1];
-        for (int q : down_x) f[q * n + gr] = a * f[q * n + r0] + (1.0 - a) * f[q * n + r1];
+        for (int q : up_x) v.base[q][gl] = (1.0 - a) * v.base[q][l0] + a * v.base[q][l1];
+        for (int q : down_x) v.base[q][gr] = a * v.base[q][r0] + (1.0 - a) * v.base[q][r1];
       }
     }
 
@@ -65,8 +68,8 @@ void fill_periodic_ghosts(const Lattice& L, double* f) {
 #pragma omp parallel for schedule(static)
     for (int j = -1; j <= ny; ++j)
       for (int i = -1; i <= nx; ++i) {
-        for (int q : up_z) f[q * n + L.index(i, j, -1)] = f[q * n + L.index(i, j, nz - 1)];
-        for (int q : down_z) f[q * n + L.index(i, j, nz)] = f[q * n + L.index(i, j, 0)];
+        for (int q : up_z) v.base[q][L.index(i, j, -1)] = v.base[q][L.index(i, j, nz - 1)];
+        for (int q : down_z) v.base[q][L.index(i, j, nz)] = v.base[q][L.index(i, j, 0)];
       }
   }
 }

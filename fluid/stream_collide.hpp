@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The fused pull-stream + collide kernel over the fluid runs of a Lattice. Two population arrays
-// (structure of arrays, stride padded_size): read the post-collision values of the neighbours in
-// `src`, collide with the Collision policy's relax() (fluid/collision/, inlined: no per-node
-// dispatch), write to `dst`. Compile-time switches keep the optional per-node force and
-// relaxation-time fields out of the loop when a scene has none (no cost unless used).
+// The fused stream + collide kernel over the fluid runs of a Lattice. Structure of arrays, stride
+// padded_size: read each node's incoming populations (the pull slots, through one view), collide
+// with the Collision policy's relax() (fluid/collision/, inlined: no per-node dispatch), write the
+// post-collision values (through another view). The views are two arrays (the pull update) or
+// one array in the in-place update's two layouts (fluid/population_view.hpp), which moves a third
+// less memory and is bound by that traffic on the DLD lattice (docs/performance.md). Compile-time
+// switches keep the optional per-node force and relaxation-time fields out of the loop when a
+// scene has none (no cost unless used).
 //
 // Vectorisation: runs are cut into blocks of kLanes consecutive nodes; within a block the 19
 // directions are unrolled at compile time (the velocity components become constants), and the
@@ -17,6 +20,7 @@
 #include "fluid/collision.hpp"
 #include "fluid/d3q19.hpp"
 #include "fluid/lattice.hpp"
+#include "fluid/population_view.hpp"
 
 namespace dld::fluid {
 
@@ -49,17 +53,19 @@ namespace detail {
 /// Updates `count` <= kW consecutive nodes starting at padded index `node`. Lanes past `count`
 /// read (padded, allocated) memory and compute throw-away values that are neither stored nor
 /// summed, so a run's tail costs one masked block instead of a scalar loop.
+/// in_base[i] + y is the pull slot (i, y - c_i) of node y, out_base[i] + y its post(i, y)
+/// (fluid/population_view.hpp); the two may be the same array (the in-place update: a node writes
+/// only slots that it alone reads, and it reads all of them before it writes).
 template <typename Collision, bool kForceField, bool kTauField, int kW, bool kMasked>
-inline void update_block(const double* __restrict src, double* __restrict dst, std::size_t n,
-                         const std::ptrdiff_t* off, std::size_t node, int count,
-                         const KernelParams& p, double op_uniform, double om_uniform,
+inline void update_block(const double* const* in_base, double* const* out_base, std::size_t node,
+                         int count, const KernelParams& p, double op_uniform, double om_uniform,
                          FlowSums& acc) {
   // Per-direction base pointers make every access unit-stride in the lane index (no gathers).
   const double* in[D3Q19::q];
   double* out[D3Q19::q];
   for (int i = 0; i < D3Q19::q; ++i) {
-    in[i] = src + i * n + node - off[i];
-    out[i] = dst + i * n + node;
+    in[i] = in_base[i] + node;
+    out[i] = out_base[i] + node;
   }
   // Software prefetch kPrefetchDistance values ahead on all 38 streams: the hardware prefetchers
   // do not follow that many streams, and the kernel otherwise stalls on memory it does not
@@ -148,15 +154,20 @@ inline void update_block(const double* __restrict src, double* __restrict dst, s
 
 }  // namespace detail
 
+/// One update: reads pull slots through `in`, writes post-collision populations through `out`
+/// (views of two arrays, or of one array in the in-place update's two states).
 template <typename Collision, bool kForceField, bool kTauField>
-FlowSums stream_collide(const Lattice& L, const double* __restrict src, double* __restrict dst,
+FlowSums stream_collide(const Lattice& L, const PopulationView& in, const PopulationView& out,
                         const KernelParams& p) {
   constexpr int kLanes = 8;
-  const std::size_t n = L.padded_size();
   const auto& segs = L.segments();
   const auto rates = Collision::rates(p.tau, p.magic);
-  std::ptrdiff_t off[D3Q19::q];
-  for (int i = 0; i < D3Q19::q; ++i) off[i] = L.offset(i);
+  const double* in_base[D3Q19::q];
+  double* out_base[D3Q19::q];
+  for (int i = 0; i < D3Q19::q; ++i) {
+    in_base[i] = in.base[i] - L.offset(i);
+    out_base[i] = out.base[i];
+  }
   double mass = 0, mx = 0, my = 0, mz = 0;
 #pragma omp parallel for schedule(static) reduction(+ : mass, mx, my, mz)
   for (std::size_t k = 0; k < segs.size(); ++k) {
@@ -165,16 +176,24 @@ FlowSums stream_collide(const Lattice& L, const double* __restrict src, double* 
     int len = segs[k].length;
     for (; len >= kLanes; len -= kLanes, node += kLanes)
       detail::update_block<Collision, kForceField, kTauField, kLanes, false>(
-          src, dst, n, off, node, kLanes, p, rates.plus, rates.minus, acc);
+          in_base, out_base, node, kLanes, p, rates.plus, rates.minus, acc);
     if (len > 0)
       detail::update_block<Collision, kForceField, kTauField, kLanes, true>(
-          src, dst, n, off, node, len, p, rates.plus, rates.minus, acc);
+          in_base, out_base, node, len, p, rates.plus, rates.minus, acc);
     mass += acc.mass;
     mx += acc.momentum_x;
     my += acc.momentum_y;
     mz += acc.momentum_z;
   }
   return {mass, mx, my, mz};
+}
+
+/// The pull update from `src` to `dst` (two arrays in the pull layout).
+template <typename Collision, bool kForceField, bool kTauField>
+FlowSums stream_collide(const Lattice& L, const double* src, double* dst, const KernelParams& p) {
+  return stream_collide<Collision, kForceField, kTauField>(
+      L, PopulationView(L, const_cast<double*>(src), PopulationLayout::kPull),
+      PopulationView(L, dst, PopulationLayout::kPull), p);
 }
 
 }  // namespace dld::fluid
