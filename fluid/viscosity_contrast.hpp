@@ -36,7 +36,8 @@ class ViscosityContrast {
 
   /// Marks the fluid nodes inside the membranes at `positions` (3 per marker, cell after cell,
   /// lattice units): tau_in there, tau_out on the nodes that were inside before and are not now.
-  /// `field` is the solver's per-node relaxation field (padded size).
+  /// `field` is the solver's per-node relaxation field (padded size), the same one at every call:
+  /// only the nodes that change side are written, so it must hold the last update's values.
   void update(std::span<const double> positions, RelaxationField& field);
 
   /// Padded indices of the nodes inside a membrane after the last update.
