@@ -340,15 +340,9 @@ static int run_main(int argc, char** argv) {
     if (o.summary_only) write_study_summary(study, runs, resolution);
     if (o.list || o.summary_only) return 0;
 
-    std::deque<const StudyRun*> queue;
     int done_before = 0;
-    for (const StudyRun* r : chosen) {
-      if (dld::coupler::run_state(*r) == RunState::kDone) {
-        ++done_before;
-      } else {
-        queue.push_back(r);
-      }
-    }
+    const std::vector<const StudyRun*> to_do = dld::coupler::runs_to_do(chosen, done_before);
+    std::deque<const StudyRun*> queue(to_do.begin(), to_do.end());
     const int jobs = o.jobs == 0 ? default_jobs(queue) : o.jobs;
     fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time\n",
                study.name, resolution.empty() ? "default resolution" : resolution, chosen.size(),

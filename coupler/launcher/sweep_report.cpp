@@ -57,6 +57,26 @@ RunState run_state(const StudyRun& run) {
   return RunState::kWaiting;
 }
 
+std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chosen, int& done) {
+  std::vector<const StudyRun*> partial, waiting;
+  done = 0;
+  for (const StudyRun* r : chosen) {
+    switch (run_state(*r)) {
+      case RunState::kDone:
+        ++done;
+        break;
+      case RunState::kPartial:
+        partial.push_back(r);
+        break;
+      case RunState::kWaiting:
+        waiting.push_back(r);
+        break;
+    }
+  }
+  partial.insert(partial.end(), waiting.begin(), waiting.end());
+  return partial;
+}
+
 const char* state_name(RunState s) {
   switch (s) {
     case RunState::kDone:

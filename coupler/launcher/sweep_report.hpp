@@ -15,6 +15,10 @@ enum class RunState { kWaiting, kPartial, kDone };
 /// done: <dir>/done.toml exists; partial: a checkpoint exists; else waiting.
 RunState run_state(const StudyRun& run);
 const char* state_name(RunState s);
+/// The runs of `chosen` that are not done, partial ones first, each group in the given order: a
+/// sweep started again finishes what it began before it begins anything new (so a run under way
+/// never waits behind a new one for a free slot). `done` gets the number already done.
+std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chosen, int& done);
 /// Wall time of all attempts of a run so far (seconds), from <dir>/attempts.csv and the running
 /// attempt's <dir>/attempt-running.csv.
 double run_wall_s(const StudyRun& run);

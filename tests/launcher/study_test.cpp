@@ -99,6 +99,27 @@ TEST_F(StudyFile, SlurmTasksSpanOneNodeOrOnePlusTheMembraneNodes) {
   EXPECT_NE(three.find("--summary --resolution coarse\n"), std::string::npos) << three;
 }
 
+// A sweep started again resumes its partial runs before it starts waiting ones, whatever their
+// order in the study, and counts the done ones apart.
+TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInStudyOrder) {
+  const auto runs = dld::coupler::load_study(write(kTwoAxes)).runs("coarse");
+  ASSERT_EQ(runs.size(), 6u);
+  std::vector<const dld::coupler::StudyRun*> chosen;
+  for (const auto& r : runs) {
+    chosen.push_back(&r);
+    fs::create_directories(r.dir);
+  }
+  std::ofstream(runs[1].dir / "done.toml") << "wall_s = 1\n";
+  std::ofstream(runs[4].dir / "run-fluid.ckpt.h5") << "x";
+  std::ofstream(runs[5].dir / "run-fluid.ckpt.h5.prev") << "x";
+  int done = -1;
+  const auto to_do = dld::coupler::runs_to_do(chosen, done);
+  EXPECT_EQ(done, 1);
+  std::vector<int> order;
+  for (const auto* r : to_do) order.push_back(r->index);
+  EXPECT_EQ(order, (std::vector<int>{4, 5, 0, 2, 3}));
+}
+
 // dld-sweep --list: a partial run shows the slowest membrane process's newest progress line.
 TEST_F(StudyFile, AListedPartialRunShowsItsSlowestProcessesProgress) {
   dld::coupler::StudyRun r;
