@@ -205,6 +205,28 @@ std::vector<StudyRun> Study::runs(const std::string& resolution) const {
   return out;
 }
 
+std::vector<const StudyRun*> select_runs(const std::vector<StudyRun>& runs, int index,
+                                         const std::vector<std::string>& names) {
+  if (index >= static_cast<int>(runs.size())) {
+    throw InputError(fmt::format("--index {}: the study has {} runs (0..{})", index, runs.size(),
+                                 runs.size() - 1));
+  }
+  std::vector<const StudyRun*> listed;
+  for (const auto& n : names) {
+    const auto r = std::find_if(runs.begin(), runs.end(), [&](auto& run) { return run.name == n; });
+    if (r == runs.end()) throw InputError(fmt::format("--only {}: no such run (see --list)", n));
+    if (std::count(names.begin(), names.end(), n) > 1)
+      throw InputError(fmt::format("--only {}: named twice (each run is run once)", n));
+    listed.push_back(&*r);
+  }
+  if (names.empty())
+    for (const auto& r : runs) listed.push_back(&r);
+  std::vector<const StudyRun*> chosen;
+  for (const StudyRun* r : listed)
+    if (index < 0 || r->index == index) chosen.push_back(r);
+  return chosen;
+}
+
 namespace {
 
 /// The same TOML text with every float outside quotes in its shortest form that reads back as the

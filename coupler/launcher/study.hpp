@@ -47,6 +47,13 @@ struct Study {
 /// Reads a study file; errors name the file, line and key (InputError).
 Study load_study(const std::string& path);
 
+/// The runs a sweep does: all of `runs` in study order, or those that `names` lists (dld-sweep
+/// --only), in the order it lists them (so a sweep can start its longest runs first); `index` >= 0
+/// keeps only the run with that index (--index, SLURM arrays). A name the study has not, a name
+/// given twice or an index out of range is an InputError naming it.
+std::vector<const StudyRun*> select_runs(const std::vector<StudyRun>& runs, int index,
+                                         const std::vector<std::string>& names);
+
 /// The scene text of a run (TOML), as written into its directory.
 std::string scene_text(const StudyRun& run);
 

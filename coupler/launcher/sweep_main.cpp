@@ -120,7 +120,8 @@ void add_options(CLI::App& app, Options& o) {
       ->check(CLI::Range(1, 1024));
   app.add_option("--index", o.index, "run only the run with this index (0-based; SLURM arrays)")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--only", o.only, "run only the runs with these names (see --list)");
+  app.add_option("--only", o.only,
+                 "run only the runs with these names, in this order (see --list)");
   app.add_flag("--list", o.list, "list the runs and their state, run nothing");
   app.add_flag("--summary", o.summary_only, "only collect the summary table and plots");
   app.add_option("--slurm", o.slurm, "write a SLURM job-array script to this file, run nothing");
@@ -142,27 +143,6 @@ std::vector<std::string> placement_args(const Options& o) {
     a.insert(a.end(), {"--membrane-processes", std::to_string(o.layout.membrane_processes)});
   if (!o.hosts.empty()) a.insert(a.end(), {"--hosts", fmt::format("{}", fmt::join(o.hosts, ","))});
   return a;
-}
-
-/// The runs --index and --only choose (all by default); unknown ones are errors.
-std::vector<const StudyRun*> select_runs(const std::vector<StudyRun>& runs, const Options& o) {
-  if (o.index >= static_cast<int>(runs.size())) {
-    throw dld::InputError(fmt::format("--index {}: the study has {} runs (0..{})", o.index,
-                                      runs.size(), runs.size() - 1));
-  }
-  for (const auto& n : o.only) {
-    if (std::none_of(runs.begin(), runs.end(), [&](auto& r) { return r.name == n; })) {
-      throw dld::InputError(fmt::format("--only {}: no such run (see --list)", n));
-    }
-  }
-  std::vector<const StudyRun*> chosen;
-  for (const auto& r : runs) {
-    if ((o.index < 0 || r.index == o.index) &&
-        (o.only.empty() || std::find(o.only.begin(), o.only.end(), r.name) != o.only.end())) {
-      chosen.push_back(&r);
-    }
-  }
-  return chosen;
 }
 
 /// The summary table of the whole study and its failure-probability plot.
@@ -314,7 +294,7 @@ static int run_main(int argc, char** argv) {
     const auto study = dld::coupler::load_study(o.study_path);
     const std::string resolution = o.resolution.empty() ? study.default_resolution : o.resolution;
     const auto runs = study.runs(resolution);
-    const std::vector<const StudyRun*> chosen = select_runs(runs, o);
+    const std::vector<const StudyRun*> chosen = dld::coupler::select_runs(runs, o.index, o.only);
     if (o.layout.membrane_nodes > 0 && o.slurm.empty())
       throw dld::InputError("--membrane-nodes: expected --slurm too (it sizes the job's tasks)");
     if (!o.hosts.empty() && !o.slurm.empty())

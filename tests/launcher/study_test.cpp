@@ -120,6 +120,34 @@ TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInStudyOrder) {
   EXPECT_EQ(order, (std::vector<int>{4, 5, 0, 2, 3}));
 }
 
+// --only picks runs in the order it names them (the longest first, say), --index one run; a name
+// the study has not, a name given twice or an index beyond the study are one-line errors.
+TEST_F(StudyFile, OnlyKeepsItsOrderAndRefusesUnknownOrRepeatedNames) {
+  const auto runs = dld::coupler::load_study(write(kTwoAxes)).runs("coarse");
+  const auto names = [](const std::vector<const dld::coupler::StudyRun*>& chosen) {
+    std::vector<std::string> out;
+    for (const auto* r : chosen) out.push_back(r->name);
+    return out;
+  };
+  EXPECT_EQ(dld::coupler::select_runs(runs, -1, {}).size(), runs.size());
+  const std::vector<std::string> some{runs[5].name, runs[0].name, runs[3].name};
+  EXPECT_EQ(names(dld::coupler::select_runs(runs, -1, some)), some);
+  EXPECT_EQ(names(dld::coupler::select_runs(runs, 3, some)),
+            std::vector<std::string>{runs[3].name});
+  const auto error = [&](int index, const std::vector<std::string>& only) -> std::string {
+    try {
+      (void)dld::coupler::select_runs(runs, index, only);
+    } catch (const dld::InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_EQ(error(-1, {"Ht8-d9"}), "--only Ht8-d9: no such run (see --list)");
+  EXPECT_EQ(error(-1, {runs[1].name, runs[1].name}),
+            "--only " + runs[1].name + ": named twice (each run is run once)");
+  EXPECT_EQ(error(6, {}), "--index 6: the study has 6 runs (0..5)");
+}
+
 // dld-sweep --list: a partial run shows the slowest membrane process's newest progress line.
 TEST_F(StudyFile, AListedPartialRunShowsItsSlowestProcessesProgress) {
   dld::coupler::StudyRun r;
