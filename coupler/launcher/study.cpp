@@ -224,6 +224,9 @@ std::vector<const StudyRun*> select_runs(const std::vector<StudyRun>& runs, int 
   std::vector<const StudyRun*> chosen;
   for (const StudyRun* r : listed)
     if (index < 0 || r->index == index) chosen.push_back(r);
+  if (index >= 0 && chosen.empty())
+    throw InputError(fmt::format("--index {} (run {}): not among --only's runs", index,
+                                 runs[static_cast<std::size_t>(index)].name));
   return chosen;
 }
 

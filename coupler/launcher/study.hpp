@@ -50,7 +50,7 @@ Study load_study(const std::string& path);
 /// The runs a sweep does: all of `runs` in study order, or those that `names` lists (dld-sweep
 /// --only), in the order it lists them (so a sweep can start its longest runs first); `index` >= 0
 /// keeps only the run with that index (--index, SLURM arrays). A name the study has not, a name
-/// given twice or an index out of range is an InputError naming it.
+/// given twice, an index out of range or one that `names` leaves out is an InputError naming it.
 std::vector<const StudyRun*> select_runs(const std::vector<StudyRun>& runs, int index,
                                          const std::vector<std::string>& names);
 

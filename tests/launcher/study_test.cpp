@@ -99,15 +99,15 @@ TEST_F(StudyFile, SlurmTasksSpanOneNodeOrOnePlusTheMembraneNodes) {
   EXPECT_NE(three.find("--summary --resolution coarse\n"), std::string::npos) << three;
 }
 
-// A sweep started again resumes its partial runs before it starts waiting ones, whatever their
-// order in the study, and counts the done ones apart.
-TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInStudyOrder) {
+// A sweep started again resumes its partial runs before it starts waiting ones, each group in
+// the order it was given (--only's), and counts the done ones apart.
+TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInTheGivenOrder) {
   const auto runs = dld::coupler::load_study(write(kTwoAxes)).runs("coarse");
   ASSERT_EQ(runs.size(), 6u);
   std::vector<const dld::coupler::StudyRun*> chosen;
-  for (const auto& r : runs) {
-    chosen.push_back(&r);
-    fs::create_directories(r.dir);
+  for (const int i : {3, 5, 0, 4, 2, 1}) {
+    chosen.push_back(&runs[static_cast<std::size_t>(i)]);
+    fs::create_directories(runs[static_cast<std::size_t>(i)].dir);
   }
   std::ofstream(runs[1].dir / "done.toml") << "wall_s = 1\n";
   std::ofstream(runs[4].dir / "run-fluid.ckpt.h5") << "x";
@@ -117,7 +117,7 @@ TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInStudyOrder) {
   EXPECT_EQ(done, 1);
   std::vector<int> order;
   for (const auto* r : to_do) order.push_back(r->index);
-  EXPECT_EQ(order, (std::vector<int>{4, 5, 0, 2, 3}));
+  EXPECT_EQ(order, (std::vector<int>{5, 4, 3, 0, 2}));
 }
 
 // --only picks runs in the order it names them (the longest first, say), --index one run; a name
@@ -146,6 +146,7 @@ TEST_F(StudyFile, OnlyKeepsItsOrderAndRefusesUnknownOrRepeatedNames) {
   EXPECT_EQ(error(-1, {runs[1].name, runs[1].name}),
             "--only " + runs[1].name + ": named twice (each run is run once)");
   EXPECT_EQ(error(6, {}), "--index 6: the study has 6 runs (0..5)");
+  EXPECT_EQ(error(2, some), "--index 2 (run " + runs[2].name + "): not among --only's runs");
 }
 
 // dld-sweep --list: a partial run shows the slowest membrane process's newest progress line.

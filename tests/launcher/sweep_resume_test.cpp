@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// dld-sweep end to end on a two-run study (one red blood cell, dx = 0.8 um, 3000 steps each): a
+// dld-sweep end to end on a two-run study (one red blood cell, dx = 0.8 um, 6000 steps each): a
 // sweep interrupted mid-run (Ctrl-C) and started again gives the same trajectories, to 1e-12, as
 // an uninterrupted sweep (also with forces and viscosity field held between updates); finished runs
 // are not run again; a changed study is refused.
@@ -63,9 +63,9 @@ class Sweep : public ::testing::Test {
 };
 
 TEST_F(Sweep, InterruptedSweepResumesToTheResultsOfAnUninterruptedOne) {
-  // 3000 steps: after both runs' step-200 checkpoints the Ctrl-C must still find one running
+  // 6000 steps: after both runs' step-200 checkpoints the Ctrl-C must still find one running
   // (with 600 steps a loaded machine let both finish first: "the interruption came too late").
-  constexpr int kSteps = 3000;
+  constexpr int kSteps = 6000;
   ASSERT_EQ(sweep(study("straight", kSteps), "straight.log"), 0)
       << slurp((dir_ / "straight.log").string());
 
