@@ -107,7 +107,7 @@ struct Options {
   dld::coupler::SlurmLayout layout;  ///< --membrane-nodes, --membrane-processes
   std::vector<std::string> hosts;
   std::vector<std::string> only;
-  bool list = false, summary_only = false, dry = false;
+  bool list = false, summary_only = false, dry = false, retry_failed = false;
 };
 
 void add_options(CLI::App& app, Options& o) {
@@ -123,6 +123,9 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--only", o.only,
                  "run only the runs with these names, in this order (see --list)");
   app.add_flag("--list", o.list, "list the runs and their state, run nothing");
+  app.add_flag("--retry-failed", o.retry_failed,
+               "run again the runs whose last attempt failed (left out otherwise: a resume "
+               "repeats the same steps and fails the same way)");
   app.add_flag("--summary", o.summary_only, "only collect the summary table and plots");
   app.add_option("--slurm", o.slurm, "write a SLURM job-array script to this file, run nothing");
   app.add_flag("--dry-run", o.dry, "write the run scenes and print the commands, start nothing");
@@ -204,7 +207,9 @@ class Sweep {
       queue_.pop_front();
       const fs::path scene = prepare(*r);
       if (!dry_) dld::coupler::fold_lost_attempt(*r);  // a killed sweep's attempt, before this one
-      const bool resume = dld::coupler::run_state(*r) == RunState::kPartial;
+      const RunState state = dld::coupler::run_state(*r);
+      const bool resume = state == RunState::kPartial ||
+                          (state == RunState::kFailed && dld::coupler::has_checkpoint(*r));
       const std::int64_t steps = study_.max_steps > 0 ? study_.max_steps : 1000000000000LL;
       std::vector<std::string> cmd{run_exe_,
                                    scene.string(),
@@ -320,13 +325,17 @@ static int run_main(int argc, char** argv) {
     if (o.summary_only) write_study_summary(study, runs, resolution);
     if (o.list || o.summary_only) return 0;
 
-    int done_before = 0;
-    const std::vector<const StudyRun*> to_do = dld::coupler::runs_to_do(chosen, done_before);
+    int done_before = 0, failed_before = 0;
+    const std::vector<const StudyRun*> to_do =
+        dld::coupler::runs_to_do(chosen, done_before, failed_before, o.retry_failed);
     std::deque<const StudyRun*> queue(to_do.begin(), to_do.end());
     const int jobs = o.jobs == 0 ? default_jobs(queue) : o.jobs;
-    fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time\n",
+    fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time{}\n",
                study.name, resolution.empty() ? "default resolution" : resolution, chosen.size(),
-               done_before, queue.size(), jobs);
+               done_before, queue.size(), jobs,
+               failed_before > 0
+                   ? fmt::format("; {} failed before, left out (--retry-failed)", failed_before)
+                   : "");
     signal(SIGINT, on_sigint);
     signal(SIGTERM, on_sigint);  // SLURM's time limit: checkpoint like Ctrl-C
     const std::vector<std::string> failed =

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -45,25 +46,46 @@ std::vector<std::string> cells(const std::string& csv_line) {
 
 }  // namespace
 
+namespace {
+/// Whether the run's last recorded attempt ended with an error (not 0, 130 or -1).
+bool last_attempt_failed(const StudyRun& run) {
+  const auto all = lines(run.dir / "attempts.csv");
+  if (all.size() < 2) return false;  // the header only, or no file
+  const auto c = cells(all.back());
+  if (c.size() < 2) return false;
+  const int code = std::atoi(c[1].c_str());
+  return code != 0 && code != 130 && code != -1;
+}
+}  // namespace
+
 RunState run_state(const StudyRun& run) {
   if (fs::exists(run.dir / "done.toml")) {
     return RunState::kDone;
   }
-  for (const char* f : {"run-fluid.ckpt.h5", "run-fluid.ckpt.h5.prev"}) {
-    if (fs::exists(run.dir / f)) {
-      return RunState::kPartial;
-    }
-  }
-  return RunState::kWaiting;
+  if (last_attempt_failed(run)) return RunState::kFailed;
+  return has_checkpoint(run) ? RunState::kPartial : RunState::kWaiting;
 }
 
-std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chosen, int& done) {
+bool has_checkpoint(const StudyRun& run) {
+  return fs::exists(run.dir / "run-fluid.ckpt.h5") ||
+         fs::exists(run.dir / "run-fluid.ckpt.h5.prev");
+}
+
+std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chosen, int& done,
+                                        int& failed, bool retry_failed) {
   std::vector<const StudyRun*> partial, waiting;
-  done = 0;
+  done = failed = 0;
   for (const StudyRun* r : chosen) {
     switch (run_state(*r)) {
       case RunState::kDone:
         ++done;
+        break;
+      case RunState::kFailed:
+        if (retry_failed) {
+          partial.push_back(r);
+        } else {
+          ++failed;
+        }
         break;
       case RunState::kPartial:
         partial.push_back(r);
@@ -83,6 +105,8 @@ const char* state_name(RunState s) {
       return "done";
     case RunState::kPartial:
       return "partial (resumes from its checkpoint)";
+    case RunState::kFailed:
+      return "failed (see its dld-run.log; dld-sweep --retry-failed runs it again)";
     default:
       return "waiting";
   }

@@ -10,15 +10,22 @@
 
 namespace dld::coupler {
 
-enum class RunState { kWaiting, kPartial, kDone };
+enum class RunState { kWaiting, kPartial, kFailed, kDone };
 
-/// done: <dir>/done.toml exists; partial: a checkpoint exists; else waiting.
+/// done: <dir>/done.toml exists; failed: its last attempt (attempts.csv) ended with an error, not
+/// an interruption (exit code 130) or a killed sweep (-1); partial: a checkpoint exists; else
+/// waiting.
 RunState run_state(const StudyRun& run);
+/// Whether the run has a checkpoint to resume from.
+bool has_checkpoint(const StudyRun& run);
 const char* state_name(RunState s);
-/// The runs of `chosen` that are not done, partial ones first, each group in the given order: a
-/// sweep started again finishes what it began before it begins anything new (so a run under way
-/// never waits behind a new one for a free slot). `done` gets the number already done.
-std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chosen, int& done);
+/// The runs of `chosen` still to run, partial ones first, each group in the given order: a sweep
+/// started again finishes what it began before it begins anything new (so a run under way never
+/// waits for a slot behind a new one). A failed run is left out (its resume would fail again the
+/// same way) unless `retry_failed`, which queues it with the partial ones. `done` and `failed` get
+/// the numbers done and left out.
+std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chosen, int& done,
+                                        int& failed, bool retry_failed = false);
 /// Wall time of all attempts of a run so far (seconds), from <dir>/attempts.csv and the running
 /// attempt's <dir>/attempt-running.csv.
 double run_wall_s(const StudyRun& run);

@@ -100,7 +100,7 @@ TEST_F(StudyFile, SlurmTasksSpanOneNodeOrOnePlusTheMembraneNodes) {
 }
 
 // A sweep started again resumes its partial runs before it starts waiting ones, each group in
-// the order it was given (--only's), and counts the done ones apart.
+// the order it was given (--only's), counts the done ones apart and leaves failed ones out.
 TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInTheGivenOrder) {
   const auto runs = dld::coupler::load_study(write(kTwoAxes)).runs("coarse");
   ASSERT_EQ(runs.size(), 6u);
@@ -112,12 +112,33 @@ TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInTheGivenOrder) {
   std::ofstream(runs[1].dir / "done.toml") << "wall_s = 1\n";
   std::ofstream(runs[4].dir / "run-fluid.ckpt.h5") << "x";
   std::ofstream(runs[5].dir / "run-fluid.ckpt.h5.prev") << "x";
-  int done = -1;
-  const auto to_do = dld::coupler::runs_to_do(chosen, done);
+  int done = -1, failed = -1;
+  const auto order = [&](bool retry) {
+    std::vector<int> out;
+    for (const auto* r : dld::coupler::runs_to_do(chosen, done, failed, retry))
+      out.push_back(r->index);
+    return out;
+  };
+  EXPECT_EQ(order(false), (std::vector<int>{5, 4, 3, 0, 2}));
   EXPECT_EQ(done, 1);
-  std::vector<int> order;
-  for (const auto* r : to_do) order.push_back(r->index);
-  EXPECT_EQ(order, (std::vector<int>{5, 4, 3, 0, 2}));
+  EXPECT_EQ(failed, 0);
+  // A run whose last attempt failed (the guard, exit code 1) is left out, also with a checkpoint;
+  // interrupted (130) and killed (-1) attempts are not failures. --retry-failed queues it with the
+  // partial ones.
+  const auto attempts = [&](int run, const char* codes) {
+    std::ofstream(runs[static_cast<std::size_t>(run)].dir / "attempts.csv")
+        << "finished_unix_s,exit_code,wall_s\n"
+        << codes;
+  };
+  attempts(4, "1,130,10.0\n2,1,5.0\n");
+  attempts(3, "1,1,3.0\n");  // failed before its first checkpoint
+  attempts(5, "1,1,3.0\n2,130,4.0\n3,-1,2.0\n");
+  EXPECT_EQ(dld::coupler::run_state(runs[4]), dld::coupler::RunState::kFailed);
+  EXPECT_EQ(dld::coupler::run_state(runs[5]), dld::coupler::RunState::kPartial);
+  EXPECT_EQ(order(false), (std::vector<int>{5, 0, 2}));
+  EXPECT_EQ(failed, 2);
+  EXPECT_EQ(order(true), (std::vector<int>{3, 5, 4, 0, 2}));
+  EXPECT_EQ(failed, 0);
 }
 
 // --only picks runs in the order it names them (the longest first, say), --index one run; a name
