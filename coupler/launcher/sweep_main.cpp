@@ -25,7 +25,6 @@
 namespace {
 
 namespace fs = std::filesystem;
-using dld::coupler::RunState;
 using dld::coupler::StudyRun;
 
 volatile sig_atomic_t g_interrupted = 0;
@@ -207,9 +206,7 @@ class Sweep {
       queue_.pop_front();
       const fs::path scene = prepare(*r);
       if (!dry_) dld::coupler::fold_lost_attempt(*r);  // a killed sweep's attempt, before this one
-      const RunState state = dld::coupler::run_state(*r);
-      const bool resume = state == RunState::kPartial ||
-                          (state == RunState::kFailed && dld::coupler::has_checkpoint(*r));
+      const bool resume = dld::coupler::has_checkpoint(*r);  // partial, or failed and retried
       const std::int64_t steps = study_.max_steps > 0 ? study_.max_steps : 1000000000000LL;
       std::vector<std::string> cmd{run_exe_,
                                    scene.string(),

@@ -44,9 +44,6 @@ std::vector<std::string> cells(const std::string& csv_line) {
   return out;
 }
 
-}  // namespace
-
-namespace {
 /// Whether the run's last recorded attempt ended with an error (not 0, 130 or -1).
 bool last_attempt_failed(const StudyRun& run) {
   const auto all = lines(run.dir / "attempts.csv");
