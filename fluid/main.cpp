@@ -41,11 +41,16 @@ static int run_main(int argc, char** argv) {
   dld::add_checkpoint_options(app, coupled.checkpoint, coupled.checkpoint_every, coupled.resume);
   app.add_option("--cells", coupled.cells, "total cells of the membrane processes (coupled mode)")
       ->check(CLI::Range(0, 100000));
+  bool exact_coupling = false;
+  app.add_flag("--exact-coupling", exact_coupling,
+               "coupled mode: forces, viscosity field and spreading every step, whatever the "
+               "scene's [coupling] holds (dld-run --exact-coupling-for)");
   CLI11_PARSE(app, argc, argv);
 
   dld::setup_logging("dld-fluid");
   try {
-    const dld::Scene scene = dld::load_scene(scene_path);
+    dld::Scene scene = dld::load_scene(scene_path);
+    if (exact_coupling) scene.coupling.make_exact();
     fmt::print("{}\n", scene.describe());
     if (check_only) return 0;
     const int t = threads > 0 ? threads : scene.run.threads;

@@ -166,10 +166,15 @@ static int run_main(int argc, char** argv) {
   app.add_flag("--check", check,
                "validate the scene's membrane part (and make its mesh), print it, and exit");
   app.add_flag("-v,--verbose", verbose, "debug logging");
+  bool exact_coupling = false;
+  app.add_flag("--exact-coupling", exact_coupling,
+               "coupled mode: forces every step, whatever the scene's [coupling] holds (dld-run "
+               "--exact-coupling-for; the fluid must be told too)");
   CLI11_PARSE(app, argc, argv);
   dld::setup_logging("dld-membrane", verbose);
   try {
-    const dld::Scene scene = dld::load_scene(scene_path, false);
+    dld::Scene scene = dld::load_scene(scene_path, false);
+    if (exact_coupling) scene.coupling.make_exact();
     const MembraneScene m = read_membrane_scene(scene);
     scene.document->reject_unknown({"coupling"});
     spdlog::info("{}", m.describe(scene));

@@ -93,6 +93,15 @@ struct CouplingParams {
     return std::lcm(static_cast<std::int64_t>(force_every),
                     static_cast<std::int64_t>(viscosity_field_every));
   }
+  /// Whether anything is held between steps (otherwise the coupling is exact).
+  bool holds() const { return force_every > 1 || viscosity_field_every > 1; }
+  /// Exact coupling (forces, viscosity field and spreading every step) for one invocation of the
+  /// programs (dld-run --exact-coupling-for): the scene file, and the hash its checkpoints carry,
+  /// stay as they are, and a held run continues from the checkpoint this one leaves.
+  void make_exact() {
+    force_every = viscosity_field_every = 1;
+    spread_held = interpolation_held = false;
+  }
 };
 
 struct Scene {

@@ -90,6 +90,8 @@ struct Options {
   std::string fluid_host, start_with;
   int port = 0;  ///< the fluid's tcp port; 0: one from the launcher's process id
   std::int64_t checkpoint_every = 0;
+  std::int64_t exact_coupling_for = 0;  ///< first steps at exact coupling (0: the scene's)
+  bool exact_coupling = false;          ///< the programs get --exact-coupling (this invocation)
   bool with_cells() const { return membrane == "cells"; }
 };
 
@@ -120,6 +122,12 @@ void add_options(CLI::App& app, Options& o) {
                  "membrane processes to split the cells among (default: the scene's [coupling] "
                  "membrane_processes); a run resumes with any number of them")
       ->check(CLI::Range(1, 64));
+  app.add_option("--exact-coupling-for", o.exact_coupling_for,
+                 "cells: run the first STEPS steps (up to the next step a held run resumes "
+                 "exactly at) with forces, viscosity field and spreading every step, then the "
+                 "scene's [coupling] from the checkpoint they end at; e.g. past the step where the "
+                 "held coupling failed (recorded in <run>-exact-coupling.csv)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--dry-run", o.dry, "validate the scene and print the commands, start nothing");
 }
 
@@ -256,6 +264,7 @@ std::vector<std::string> membrane_command(const Options& o, const RunPaths& p,
   if (o.pillars > 0) c.insert(c.end(), {"--pillars", std::to_string(o.pillars)});
   if (o.until_certain) c.push_back("--until-mode-certain");
   if (o.exchange_every_step) c.push_back("--exchange-every-step");
+  if (o.exact_coupling) c.push_back("--exact-coupling");
   c.insert(c.end(), {"--checkpoint", cell_checkpoint(p.stem, k), "--checkpoint-every",
                      std::to_string(o.checkpoint_every)});
   if (o.resume) {
@@ -281,6 +290,7 @@ std::vector<std::vector<std::string>> program_commands(const Options& o, const d
                        {"--checkpoint", fluid_checkpoint(p.stem), "--checkpoint-every",
                         std::to_string(o.checkpoint_every)});
     if (o.resume) commands[0].insert(commands[0].end(), {"--resume", from.fluid});
+    if (o.exact_coupling) commands[0].push_back("--exact-coupling");
   }
   for (int k = 0; k < peers; ++k) commands.push_back(membrane_command(o, p, place, k, peers, from));
   return commands;
@@ -397,6 +407,110 @@ struct RemoveOnExit {
   }
 };
 
+/// One start of the programs from `from` until they end: their commands (and --dry-run's check),
+/// their supervision and the run file; the first failure's exit code, 130 when interrupted.
+int run_programs(const Options& o, const dld::Scene& scene, const RunPaths& paths,
+                 const dld::coupler::Placement& place, int cells,
+                 const dld::coupler::ResumePoint& from) {
+  if (o.resume) fmt::print("dld-run: resuming at step {}\n", from.step);
+  if (o.resume && from.step % scene.coupling.exact_resume_every() != 0)
+    fmt::print(stderr,
+               "dld-run: warning: step {} is not a multiple of {} ([coupling] force_every, "
+               "viscosity_field_every): the held forces and viscosity field are recomputed "
+               "there, so the run differs slightly from one that went straight through\n",
+               from.step, scene.coupling.exact_resume_every());
+  auto commands = program_commands(o, scene, paths, place, cells, from);
+  add_curve_keys(commands, paths);
+  for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
+  if (o.dry) {  // the membrane part too: dld-run itself reads only the fluid's tables
+    if (!o.with_cells()) return 0;
+    return check_membrane_part(dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE),
+                               o.scene_path, paths.sock_dir);
+  }
+  dld::coupler::check_hosts(place, paths.sock_dir.string(), kHostCheckSeconds);
+  // The run file describes this run or does not exist: one left by an earlier run of the scene
+  // would otherwise stand for this one if this one's parts cannot be merged.
+  const std::string merged = paths.out.string();
+  std::error_code ignored;  // none there, or one this run cannot remove: merging will say so
+  fs::remove(merged, ignored);
+  signal(SIGINT, on_sigint);
+  signal(SIGTERM, on_sigint);  // SLURM's way to end a job: the same clean stop as Ctrl-C
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<dld::coupler::Child> children = start_programs(commands, o, paths.stem, place);
+  const int failed = supervise(children, scene);
+  // After a failure too: what the programs wrote up to it is what there is to look at.
+  const bool have_run_file = write_run_file(
+      dld::coupler::run_parts(paths.stem, o.membrane, scene.coupling.membrane_processes), merged);
+  if (failed) {
+    if (have_run_file)
+      fmt::print(stderr, "dld-run: run file {} holds what the programs wrote before the failure\n",
+                 merged);
+    return failed;
+  }
+  fmt::print("dld-run: done in {:.1f} s; run file {}, parts {}-*.h5, logs {}-*.log\n",
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+             have_run_file ? merged : "not written", paths.stem, paths.stem);
+  return g_interrupted ? 130 : 0;
+}
+
+/// --exact-coupling-for N: the step the exact start ends at, N steps after `from` rounded up to
+/// the next step a held run resumes exactly at; 0 when there is nothing to do (no N, or a scene
+/// that holds nothing).
+std::int64_t exact_coupling_until(const Options& o, const dld::Scene& scene, std::int64_t from) {
+  if (o.exact_coupling_for == 0) return 0;
+  if (!o.with_cells())
+    throw dld::InputError(
+        "--exact-coupling-for: only runs with --membrane cells (the held coupling resumes from "
+        "the checkpoint the exact steps end at)");
+  if (!scene.coupling.holds()) {
+    fmt::print(
+        "dld-run: --exact-coupling-for: {} holds nothing ([coupling] force_every and "
+        "viscosity_field_every are 1): the whole run is exact\n",
+        o.scene_path);
+    return 0;
+  }
+  const std::int64_t every = scene.coupling.exact_resume_every();
+  return std::min(o.steps, (from + o.exact_coupling_for + every - 1) / every * every);
+}
+
+/// Appends the exact stretch [first, last] to <stem>-exact-coupling.csv, so that whoever reads
+/// the run's results knows which steps were not at the scene's held coupling.
+void record_exact_stretch(const std::string& stem, std::int64_t first, std::int64_t last) {
+  const std::string path = stem + "-exact-coupling.csv";
+  const bool fresh = !fs::exists(path);
+  std::ofstream out(path, std::ios::app);
+  if (fresh) out << "first_step,last_step\n";
+  out << first << ',' << last << '\n';
+  if (!out) throw std::runtime_error(path + ": cannot append the exact stretch");
+}
+
+/// The exact start of --exact-coupling-for (when there is one), then the scene's coupling from
+/// the checkpoint it ended at.
+int run_phases(Options o, const dld::Scene& scene, const RunPaths& paths,
+               const dld::coupler::Placement& place, int cells) {
+  const int peers = scene.coupling.membrane_processes;
+  auto from = resume_point(o, paths.stem, cells, peers);
+  const std::int64_t until = exact_coupling_until(o, scene, from.step);
+  if (until <= from.step) return run_programs(o, scene, paths, place, cells, from);
+  fmt::print(
+      "dld-run: steps {} to {} at exact coupling (--exact-coupling-for), then the scene's "
+      "[coupling] from the checkpoint at step {}\n",
+      from.step, until, until);
+  Options exact = o;
+  exact.exact_coupling = true;
+  exact.steps = until;
+  dld::Scene exact_scene = scene;
+  exact_scene.coupling.make_exact();
+  const int rc = run_programs(exact, exact_scene, paths, place, cells, from);
+  if ((rc != 0 && rc != 130) || o.dry) return rc;
+  o.resume = true;
+  const auto after = resume_point(o, paths.stem, cells, peers);
+  record_exact_stretch(paths.stem, from.step, after.step);
+  // Interrupted, or ended before `until` by its stop rule: that is where the run stands.
+  if (rc != 0 || after.step < until || after.step >= o.steps) return rc;
+  return run_programs(o, scene, paths, place, cells, after);
+}
+
 }  // namespace
 
 static int run_main(int argc, char** argv) {
@@ -422,49 +536,7 @@ static int run_main(int argc, char** argv) {
     if (!place.warning.empty()) fmt::print(stderr, "dld-run: warning: {}\n", place.warning);
     const RunPaths paths = run_paths(scene, o.scene_path, place, o.port);
     const RemoveOnExit sockets{paths.sock_dir}, keys{paths.key_dir};
-    const int cells = cell_count(scene, o);
-    const auto from = resume_point(o, paths.stem, cells, scene.coupling.membrane_processes);
-    if (o.resume) fmt::print("dld-run: resuming at step {}\n", from.step);
-    if (o.resume && from.step % scene.coupling.exact_resume_every() != 0)
-      fmt::print(stderr,
-                 "dld-run: warning: step {} is not a multiple of {} ([coupling] force_every, "
-                 "viscosity_field_every): the held forces and viscosity field are recomputed "
-                 "there, so the run differs slightly from one that went straight through\n",
-                 from.step, scene.coupling.exact_resume_every());
-    auto commands = program_commands(o, scene, paths, place, cells, from);
-    add_curve_keys(commands, paths);
-    for (const auto& c : commands) fmt::print("  {}\n", fmt::join(c, " "));
-    if (o.dry) {  // the membrane part too: dld-run itself reads only the fluid's tables
-      if (!o.with_cells()) return 0;
-      return check_membrane_part(dld::coupler::find_program("dld-membrane", DLD_MEMBRANE_EXE),
-                                 o.scene_path, paths.sock_dir);
-    }
-    dld::coupler::check_hosts(place, paths.sock_dir.string(), kHostCheckSeconds);
-    // The run file describes this run or does not exist: one left by an earlier run of the scene
-    // would otherwise stand for this one if this one's parts cannot be merged.
-    const std::string merged = paths.out.string();
-    std::error_code ignored;  // none there, or one this run cannot remove: merging will say so
-    fs::remove(merged, ignored);
-    signal(SIGINT, on_sigint);
-    signal(SIGTERM, on_sigint);  // SLURM's way to end a job: the same clean stop as Ctrl-C
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<dld::coupler::Child> children = start_programs(commands, o, paths.stem, place);
-    const int failed = supervise(children, scene);
-    // After a failure too: what the programs wrote up to it is what there is to look at.
-    const bool have_run_file = write_run_file(
-        dld::coupler::run_parts(paths.stem, o.membrane, scene.coupling.membrane_processes), merged);
-    if (failed) {
-      if (have_run_file) {
-        fmt::print(stderr,
-                   "dld-run: run file {} holds what the programs wrote before the failure\n",
-                   merged);
-      }
-      return failed;
-    }
-    fmt::print("dld-run: done in {:.1f} s; run file {}, parts {}-*.h5, logs {}-*.log\n",
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-               have_run_file ? merged : "not written", paths.stem, paths.stem);
-    return g_interrupted ? 130 : 0;
+    return run_phases(o, scene, paths, place, cell_count(scene, o));
   } catch (const dld::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 2;

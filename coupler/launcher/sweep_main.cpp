@@ -107,6 +107,7 @@ struct Options {
   std::vector<std::string> hosts;
   std::vector<std::string> only;
   bool list = false, summary_only = false, dry = false, retry_failed = false;
+  std::int64_t exact_coupling_for = 0;  ///< with retry_failed: dld-run --exact-coupling-for
 };
 
 void add_options(CLI::App& app, Options& o) {
@@ -125,6 +126,11 @@ void add_options(CLI::App& app, Options& o) {
   app.add_flag("--retry-failed", o.retry_failed,
                "run again the runs whose last attempt failed (left out otherwise: a resume "
                "repeats the same steps and fails the same way)");
+  app.add_option("--exact-coupling-for", o.exact_coupling_for,
+                 "with --retry-failed: a failed run starts again with its next STEPS steps at "
+                 "exact coupling, then its setting's (dld-run --exact-coupling-for; for a held "
+                 "coupling that failed where the exact one holds)")
+      ->check(CLI::PositiveNumber);
   app.add_flag("--summary", o.summary_only, "only collect the summary table and plots");
   app.add_option("--slurm", o.slurm, "write a SLURM job-array script to this file, run nothing");
   app.add_flag("--dry-run", o.dry, "write the run scenes and print the commands, start nothing");
@@ -169,13 +175,14 @@ void write_study_summary(const dld::coupler::Study& study, const std::vector<Stu
 class Sweep {
  public:
   Sweep(const dld::coupler::Study& study, std::deque<const StudyRun*> queue, int jobs, bool dry,
-        int done_before, std::vector<std::string> run_args)
+        int done_before, std::vector<std::string> run_args, std::int64_t exact_for_failed)
       : study_(study),
         queue_(std::move(queue)),
         jobs_(jobs),
         dry_(dry),
         done_before_(done_before),
-        run_args_(std::move(run_args)) {
+        run_args_(std::move(run_args)),
+        exact_for_failed_(exact_for_failed) {
     run_exe_ = dld::coupler::find_program("dld-run", DLD_RUN_EXE);
     try {
       analyze_exe_ = dld::coupler::find_program("dld-analyze", DLD_ANALYZE_EXE);
@@ -205,6 +212,7 @@ class Sweep {
       const StudyRun* r = queue_.front();
       queue_.pop_front();
       const fs::path scene = prepare(*r);
+      const bool retried = dld::coupler::run_state(*r) == dld::coupler::RunState::kFailed;
       if (!dry_) dld::coupler::fold_lost_attempt(*r);  // a killed sweep's attempt, before this one
       const bool resume = dld::coupler::has_checkpoint(*r);  // partial, or failed and retried
       const std::int64_t steps = study_.max_steps > 0 ? study_.max_steps : 1000000000000LL;
@@ -219,6 +227,8 @@ class Sweep {
                                    "--checkpoint-every",
                                    std::to_string(study_.checkpoint_every)};
       if (resume) cmd.push_back("--resume");
+      if (retried && exact_for_failed_ > 0)
+        cmd.insert(cmd.end(), {"--exact-coupling-for", std::to_string(exact_for_failed_)});
       cmd.insert(cmd.end(), run_args_.begin(), run_args_.end());
       fmt::print("  start {} ({}): {}\n", r->name, resume ? "resuming" : "new",
                  fmt::join(cmd, " "));
@@ -278,6 +288,7 @@ class Sweep {
   const bool dry_;
   const int done_before_;
   const std::vector<std::string> run_args_;  ///< placement: --membrane-processes, --hosts
+  const std::int64_t exact_for_failed_;      ///< a retried failed run's exact steps (0: none)
   std::string run_exe_, analyze_exe_;
   std::vector<Running> running_;
   std::vector<std::string> failed_;
@@ -297,6 +308,9 @@ static int run_main(int argc, char** argv) {
     const std::string resolution = o.resolution.empty() ? study.default_resolution : o.resolution;
     const auto runs = study.runs(resolution);
     const std::vector<const StudyRun*> chosen = dld::coupler::select_runs(runs, o.index, o.only);
+    if (o.exact_coupling_for > 0 && !o.retry_failed)
+      throw dld::InputError(
+          "--exact-coupling-for: expected --retry-failed too (it applies to failed runs only)");
     if (o.layout.membrane_nodes > 0 && o.slurm.empty())
       throw dld::InputError("--membrane-nodes: expected --slurm too (it sizes the job's tasks)");
     if (!o.hosts.empty() && !o.slurm.empty())
@@ -335,8 +349,9 @@ static int run_main(int argc, char** argv) {
                    : "");
     signal(SIGINT, on_sigint);
     signal(SIGTERM, on_sigint);  // SLURM's time limit: checkpoint like Ctrl-C
-    const std::vector<std::string> failed =
-        Sweep(study, std::move(queue), jobs, o.dry, done_before, placement_args(o)).run();
+    const std::vector<std::string> failed = Sweep(study, std::move(queue), jobs, o.dry, done_before,
+                                                  placement_args(o), o.exact_coupling_for)
+                                                .run();
     if (o.dry) return 0;
     if (g_interrupted) {
       fmt::print(stderr,

@@ -55,6 +55,16 @@ bool last_attempt_failed(const StudyRun& run) {
 }
 }  // namespace
 
+std::string exact_coupling_stretches(const StudyRun& run) {
+  std::string out;
+  for (const auto& l : lines(run.dir / "run-exact-coupling.csv")) {
+    const auto c = cells(l);
+    if (c.size() < 2 || c[0] == "first_step") continue;
+    out += fmt::format("{}{}-{}", out.empty() ? "" : ";", c[0], c[1]);
+  }
+  return out;
+}
+
 RunState run_state(const StudyRun& run) {
   if (fs::exists(run.dir / "done.toml")) {
     return RunState::kDone;
@@ -179,6 +189,9 @@ std::string run_progress(const StudyRun& run) {
   const double wall = run_wall_s(run);
   if (wall > 0)
     progress += fmt::format("{}{:.1f} h so far", progress.empty() ? "" : ", ", wall / 3600);
+  const std::string exact = exact_coupling_stretches(run);
+  if (!exact.empty())
+    progress += fmt::format("{}exact coupling over steps {}", progress.empty() ? "" : ", ", exact);
   return progress;
 }
 
@@ -252,12 +265,14 @@ SummaryTable summary_table(const Study& study, const std::vector<StudyRun>& runs
   std::map<std::string, std::string> none;
   t.add(none, "run", "");
   for (const auto& a : study.axes) t.add(none, a.column.empty() ? a.name : a.column, "");
+  t.add(none, "exact_coupling", "");  // before wall_s: the analysis's columns follow wall_s
   t.add(none, "wall_s", "");
   for (const auto& run : runs) {
     if (run_state(run) != RunState::kDone) continue;
     std::map<std::string, std::string> row{{"run", run.name}};
     for (std::size_t i = 0; i < study.axes.size(); ++i)
       row[t.columns[1 + i]] = fmt::format("{:g}", run.coordinates[i]);
+    row["exact_coupling"] = exact_coupling_stretches(run);
     row["wall_s"] = fmt::format("{:.1f}", run_wall_s(run));
     const auto a = lines(run.dir / "run-summary.csv");
     if (a.size() >= 2) {

@@ -29,9 +29,12 @@ std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chos
 /// Wall time of all attempts of a run so far (seconds), from <dir>/attempts.csv and the running
 /// attempt's <dir>/attempt-running.csv.
 double run_wall_s(const StudyRun& run);
+/// The steps a run ran at exact coupling instead of its setting's held one (dld-run
+/// --exact-coupling-for, <dir>/run-exact-coupling.csv), as "first-last;first-last"; "" if none.
+std::string exact_coupling_stretches(const StudyRun& run);
 /// How far a run got, for --list: the newest progress line of its membrane logs (step and the
 /// slowest process's pillars and its ETA, e.g. "step 4145000, 17.00/20 pillars, ETA 2.1 h") and
-/// its wall time so far (run_wall_s); "" when there is neither.
+/// its wall time so far (run_wall_s), and its exact-coupling stretches; "" when there is none.
 std::string run_progress(const StudyRun& run);
 /// Appends one attempt (exit code, wall time) to <dir>/attempts.csv.
 void record_attempt(const StudyRun& run, int exit_code, double wall_s);

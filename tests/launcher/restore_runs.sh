@@ -2,7 +2,8 @@
 # Issue 16: a new machine has an empty runs/ folder; scripts/restore-finished-runs marks the runs
 # that finished elsewhere as done from the committed summary (docs/results/headline/summary.csv),
 # so dld-sweep neither reruns them nor leaves them out: --list shows them done and --summary
-# writes the committed summary byte for byte. A run folder that holds a checkpoint is left alone,
+# writes the committed summary byte for byte (with a run's exact-coupling stretches, which --list
+# shows too). A run folder that holds a checkpoint is left alone,
 # and a file that is no sweep summary is refused with one line naming it.
 # Usage: restore_runs.sh DLD_SWEEP PROJECT_SOURCE_DIR
 set -euo pipefail
@@ -14,7 +15,17 @@ sed -e "s|^scene = .*|scene = \"$study/base.toml\"|" -e "s|^output = .*|output =
     -e "s|^modes = .*|modes = \"$study/dilute_modes_fast.toml\"|" \
     -e "s|^resolutions = .*|resolutions = \"$study/resolutions.toml\"|" \
     "$study/headline.toml" > "$dir/headline.toml"
-summary=$src/docs/results/headline/summary.csv
+# The committed summary, with exact-coupling stretches (dld-run --exact-coupling-for) given to its
+# first run: they must come back in the restored run's summary row.
+committed=$src/docs/results/headline/summary.csv
+summary=$dir/summary-in.csv
+/usr/bin/python3 - "$committed" "$summary" <<'PY'
+import csv, sys
+rows = list(csv.reader(open(sys.argv[1], newline="")))
+rows[1][rows[0].index("exact_coupling")] = "4700000-4760000;5000000-5050000"
+csv.writer(open(sys.argv[2], "w", newline=""), lineterminator="\n").writerows(rows)
+PY
+cmp -s "$committed" "$summary" && { echo "FAIL: no stretch written into the test's summary"; exit 1; }
 done_runs=$(($(wc -l < "$summary") - 1))
 # A run under way keeps its folder: a stand-in checkpoint in the first finished run's folder.
 first=$(sed -n 2p "$summary" | cut -d, -f1)
@@ -31,7 +42,9 @@ listed=$("$sweep" "$dir/headline.toml" --list | grep -c " done")
 "$sweep" "$dir/headline.toml" --summary > "$dir/summary.txt" 2>&1 || { cat "$dir/summary.txt"; exit 1; }
 cmp "$summary" "$dir/runs/fast/summary.csv" ||
   { echo "FAIL: the summary of the restored runs differs from $summary"; exit 1; }
-echo "restored $done_runs runs: listed done, summary byte for byte"
+"$sweep" "$dir/headline.toml" --list | grep -q "^  0  $first .*exact coupling over steps 4700000-4760000;5000000-5050000" ||
+  { echo "FAIL: --list does not show the restored run's exact-coupling stretches"; exit 1; }
+echo "restored $done_runs runs: listed done (with their exact-coupling stretches), summary byte for byte"
 # Not a sweep summary: one line naming the file and the column, non-zero exit.
 echo "a,b" > "$dir/bad.csv"
 if "$src/scripts/restore-finished-runs" "$dir/bad.csv" "$dir/x" 2> "$dir/err.txt"; then

@@ -2,7 +2,8 @@
 // dld-sweep end to end on a two-run study (one red blood cell, dx = 0.8 um, 6000 steps each): a
 // sweep interrupted mid-run (Ctrl-C) and started again gives the same trajectories, to 1e-12, as
 // an uninterrupted sweep (also with forces and viscosity field held between updates); finished runs
-// are not run again; a changed study is refused.
+// are not run again; a changed study is refused. And dld-run --exact-coupling-for (a failed held
+// coupling's retry): exact steps first, then the held coupling.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -138,6 +139,85 @@ TEST_F(Sweep, AChangedStudyIsNotResumedUnderTheOldRuns) {
   EXPECT_NE(slurp((dir_ / "changed-2.log").string()).find("d6/scene.toml differs"),
             std::string::npos)
       << slurp((dir_ / "changed-2.log").string());
+}
+
+// dld-run --exact-coupling-for N (after a held coupling failed, e.g. Ht45.6-d6 of the headline):
+// the first N steps, rounded up to the held run's exact-resume step (6 here), are those of the
+// exact coupling bit for bit; then the scene's held coupling goes on from that checkpoint, and the
+// stretch is recorded for the results.
+TEST_F(Sweep, ExactCouplingForRunsExactStepsThenTheScenesHeldCoupling) {
+  const std::string base = slurp((dir_ / "base.toml").string());
+  const auto scene = [&](const std::string& name, bool exact) {
+    std::string text = base;
+    const auto set = [&text](const std::string& from, const std::string& to) {
+      text.replace(text.find(from), from.size(), to);
+    };
+    set("file = \"x.h5\"", "file = \"" + (dir_ / name / "run.h5").string() + "\"");
+    if (exact) {
+      set("force_every = 3", "force_every = 1");
+      set("viscosity_field_every = 2", "viscosity_field_every = 1");
+    }
+    std::ofstream(dir_ / (name + ".toml")) << text;
+    return (dir_ / (name + ".toml")).string();
+  };
+  const auto run = [&](const std::string& name, bool exact, std::vector<std::string> extra) {
+    std::vector<std::string> argv{DLD_RUN_EXE, scene(name, exact), "--membrane",
+                                  "cells",     "--steps",          "600"};
+    argv.insert(argv.end(), extra.begin(), extra.end());
+    auto p = spawn(argv, (dir_ / (name + ".log")).string());
+    EXPECT_EQ(wait_for(p, 300), 0) << slurp(p.log);
+    return samples(dir_ / name);
+  };
+  const auto exact = run("exact", true, {});
+  const auto held = run("held", false, {});
+  const auto both = run("both", false, {"--exact-coupling-for", "200"});
+  constexpr std::size_t kRow = 1 + 4;  // step, then x y z volume of the one cell
+  ASSERT_EQ(both.size(), exact.size());
+  ASSERT_EQ(both.size(), 7 * kRow) << "samples at steps 0, 100, ..., 600";
+  for (std::size_t i = 0; i < 3 * kRow; ++i) EXPECT_EQ(both[i], exact[i]) << "sample value " << i;
+  EXPECT_NE(both[kRow + 2], held[kRow + 2]) << "the first steps were not the held coupling's";
+  double after = 0;  // from step 204 on the held coupling: no longer the exact run
+  for (std::size_t i = 3 * kRow; i < both.size(); ++i) after += std::abs(both[i] - exact[i]);
+  EXPECT_GT(after, 0) << "the run did not go back to the scene's held coupling";
+  EXPECT_EQ(slurp((dir_ / "both" / "run-exact-coupling.csv").string()),
+            "first_step,last_step\n0,204\n");
+  const std::string log = slurp((dir_ / "both.log").string());
+  EXPECT_NE(log.find("steps 0 to 204 at exact coupling"), std::string::npos) << log;
+  EXPECT_NE(log.find("resuming at step 204"), std::string::npos) << log;
+}
+
+TEST_F(Sweep, ExactCouplingForIsRefusedWhereItCannotApply) {
+  auto tracers = spawn({DLD_RUN_EXE, (dir_ / "base.toml").string(), "--membrane", "tracers",
+                        "--exact-coupling-for", "100"},
+                       (dir_ / "tracers.log").string());
+  EXPECT_EQ(wait_for(tracers, 60), 2);
+  EXPECT_NE(slurp(tracers.log).find("error: --exact-coupling-for: only runs with --membrane cells"),
+            std::string::npos)
+      << slurp(tracers.log);
+  const std::string s = study("retry", 600);
+  auto no_retry =
+      spawn({DLD_SWEEP_EXE, s, "--exact-coupling-for", "100"}, (dir_ / "no-retry.log").string());
+  EXPECT_EQ(wait_for(no_retry, 60), 2);
+  EXPECT_NE(slurp(no_retry.log).find("--exact-coupling-for: expected --retry-failed too"),
+            std::string::npos)
+      << slurp(no_retry.log);
+  // A failed run (its last attempt's exit code 1) is retried with the exact start; the other,
+  // waiting, run starts as its setting says.
+  const fs::path failed = dir_ / "retry" / "default" / "d6";
+  fs::create_directories(failed);
+  std::ofstream(failed / "attempts.csv") << "finished_unix_s,exit_code,wall_s\n1,1,5.0\n";
+  auto dry = spawn({DLD_SWEEP_EXE, s, "--retry-failed", "--exact-coupling-for", "100", "--dry-run",
+                    "--jobs", "2"},
+                   (dir_ / "dry.log").string());
+  ASSERT_EQ(wait_for(dry, 60), 0) << slurp(dry.log);
+  const std::string log = slurp(dry.log);
+  const auto line = [&](const std::string& run) {
+    const std::size_t at = log.find("start " + run + " (");
+    return at == std::string::npos ? std::string() : log.substr(at, log.find('\n', at) - at);
+  };
+  EXPECT_NE(line("d6").find("--exact-coupling-for 100"), std::string::npos) << log;
+  EXPECT_EQ(line("d4.4").find("--exact-coupling-for"), std::string::npos) << log;
+  EXPECT_FALSE(line("d4.4").empty()) << log;
 }
 
 }  // namespace
