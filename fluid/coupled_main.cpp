@@ -14,6 +14,7 @@
 #include <csignal>
 #include <memory>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "coupler/endpoint.hpp"
@@ -228,6 +229,12 @@ int serve_coupled(const Scene& scene, const CoupledOptions& opt) {
       // Held steps (the membranes' forces held for n > 1 steps): the nodes move by X += U dt
       // (dt = 1) here after each step, as the membranes would move them, bit for bit.
       const std::uint64_t n = side.held_steps();
+      if (n > 1 && scene.coupling.force_every == 1)
+        throw std::runtime_error(fmt::format(
+            "a membrane process holds its forces {} steps, but this fluid couples exactly "
+            "([coupling] force_every 1, or --exact-coupling): give both programs the same "
+            "coupling (dld-run does)",
+            n));
       std::span<const double> x = side.positions();
       if (n > 1) {
         held_x.assign(x.begin(), x.end());

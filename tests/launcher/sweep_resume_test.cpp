@@ -186,6 +186,25 @@ TEST_F(Sweep, ExactCouplingForRunsExactStepsThenTheScenesHeldCoupling) {
   EXPECT_NE(log.find("resuming at step 204"), std::string::npos) << log;
 }
 
+// The programs started by hand, --exact-coupling given to the fluid only: the membrane holds its
+// forces 3 steps, the fluid refuses to run them as held steps (both end non-zero, the fluid
+// saying why) instead of a run that is neither coupling.
+TEST_F(Sweep, AFluidToldToCoupleExactlyRefusesAMembraneThatHoldsItsForces) {
+  const std::string scene = (dir_ / "base.toml").string(),
+                    endpoint = "ipc://" + (dir_ / "fluid").string();
+  auto fluid = spawn({DLD_FLUID_EXE, scene, "--serve", endpoint, "--peers", "1", "--cells", "1",
+                      "-o", (dir_ / "f.h5").string(), "--exact-coupling"},
+                     (dir_ / "fluid.log").string());
+  auto membrane = spawn({DLD_MEMBRANE_EXE, scene, "--connect", endpoint, "--peer", "0", "--peers",
+                         "1", "--steps", "30", "-o", (dir_ / "m.h5").string()},
+                        (dir_ / "membrane.log").string());
+  EXPECT_NE(wait_for(membrane, 120), 0) << slurp(membrane.log);
+  EXPECT_EQ(wait_for(fluid, 60), 1) << slurp(fluid.log);
+  EXPECT_NE(slurp(fluid.log).find("holds its forces 3 steps, but this fluid couples exactly"),
+            std::string::npos)
+      << slurp(fluid.log);
+}
+
 TEST_F(Sweep, ExactCouplingForIsRefusedWhereItCannotApply) {
   auto tracers = spawn({DLD_RUN_EXE, (dir_ / "base.toml").string(), "--membrane", "tracers",
                         "--exact-coupling-for", "100"},
