@@ -13,6 +13,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
 
@@ -63,7 +64,26 @@ struct Running {
   const StudyRun* run;
   dld::coupler::Child child;
   std::chrono::steady_clock::time_point start;
+  bool exact_start = false;        ///< started with dld-run --exact-coupling-for
+  std::size_t stretches_before{};  ///< its exact-coupling stretches when it started
 };
+
+/// The stretches a run has run at exact coupling (lines of <dir>/run-exact-coupling.csv).
+std::size_t exact_stretch_count(const StudyRun& run) {
+  const std::string s = dld::coupler::exact_coupling_stretches(run);
+  return s.empty() ? 0 : 1 + static_cast<std::size_t>(std::count(s.begin(), s.end(), ';'));
+}
+
+/// A failed attempt's log is kept (the next attempt rewrites dld-run.log): appended to
+/// <dir>/dld-run.failures.log under a line with the exit code.
+void keep_failure_log(const StudyRun& run, int exit_code) {
+  std::ofstream out(run.dir / "dld-run.failures.log", std::ios::app);
+  out << fmt::format("==== attempt ended with exit code {} ({} s since the epoch)\n", exit_code,
+                     std::chrono::duration_cast<std::chrono::seconds>(
+                         std::chrono::system_clock::now().time_since_epoch())
+                         .count())
+      << slurp(run.dir / "dld-run.log");
+}
 
 /// dld-analyze on a finished run (its CSVs and plots go into the run's directory): on the run file
 /// dld-run wrote, else (dld-run could not merge; it said why in the run's log) on the part files,
@@ -129,7 +149,8 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--exact-coupling-for", o.exact_coupling_for,
                  "with --retry-failed: a failed run starts again with its next STEPS steps at "
                  "exact coupling, then its setting's (dld-run --exact-coupling-for; for a held "
-                 "coupling that failed where the exact one holds)")
+                 "coupling that failed where the exact one holds); a run that fails during the "
+                 "sweep is retried so at once, while each retry gets past its exact steps")
       ->check(CLI::PositiveNumber);
   app.add_flag("--summary", o.summary_only, "only collect the summary table and plots");
   app.add_option("--slurm", o.slurm, "write a SLURM job-array script to this file, run nothing");
@@ -235,7 +256,8 @@ class Sweep {
       if (dry_) continue;
       running_.push_back(
           {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string(), SIGTERM),
-           std::chrono::steady_clock::now()});
+           std::chrono::steady_clock::now(), retried && exact_for_failed_ > 0,
+           exact_stretch_count(*r)});
     }
   }
 
@@ -258,12 +280,30 @@ class Sweep {
         ++finished_;
         fmt::print("  done {} in {:.0f} s\n", it->run->name, wall);
       } else if (!g_interrupted) {
-        failed_.push_back(it->run->name);
         fmt::print(stderr, "  {} failed (exit {}): {}\n", it->run->name, it->child.exit_code,
                    dld::coupler::error_line(it->child.log));
+        keep_failure_log(*it->run, it->child.exit_code);
+        if (retry(*it)) {
+          queue_.push_front(it->run);
+          fmt::print(stderr, "  {}: retried from its last checkpoint, {} steps at exact coupling\n",
+                     it->run->name, exact_for_failed_);
+        } else {
+          failed_.push_back(it->run->name);
+        }
       }
       it = running_.erase(it);
     }
+  }
+
+  /// With --exact-coupling-for, a run that fails is retried at once from its checkpoint, its
+  /// first steps at exact coupling, as long as every retry gets somewhere: not when the exact
+  /// steps themselves failed (no new stretch), and at most kMaxRetries times per sweep.
+  bool retry(const Running& r) {
+    static constexpr int kMaxRetries = 10;
+    if (exact_for_failed_ == 0 || retries_[r.run->name] >= kMaxRetries) return false;
+    if (r.exact_start && exact_stretch_count(*r.run) <= r.stretches_before) return false;
+    ++retries_[r.run->name];
+    return true;
   }
 
   void report() {
@@ -292,6 +332,7 @@ class Sweep {
   std::string run_exe_, analyze_exe_;
   std::vector<Running> running_;
   std::vector<std::string> failed_;
+  std::map<std::string, int> retries_;  ///< retries of each run in this sweep
   int finished_ = 0;
   std::chrono::steady_clock::time_point t0_, last_report_;
 };
