@@ -44,8 +44,10 @@ std::vector<std::string> cells(const std::string& csv_line) {
   return out;
 }
 
-/// Whether the run's last recorded attempt ended with an error (not 0, 130 or -1).
+/// Whether the run's last recorded attempt ended with an error (not 0, 130 or -1), and no attempt
+/// has started since (attempt-running.csv: a retry under way, or killed).
 bool last_attempt_failed(const StudyRun& run) {
+  if (fs::exists(run.dir / "attempt-running.csv")) return false;
   const auto all = lines(run.dir / "attempts.csv");
   if (all.size() < 2) return false;  // the header only, or no file
   const auto c = cells(all.back());

@@ -13,8 +13,8 @@ namespace dld::coupler {
 enum class RunState { kWaiting, kPartial, kFailed, kDone };
 
 /// done: <dir>/done.toml exists; failed: its last attempt (attempts.csv) ended with an error, not
-/// an interruption (exit code 130) or a killed sweep (-1); partial: a checkpoint exists; else
-/// waiting.
+/// an interruption (exit code 130) or a killed sweep (-1), and none has started since
+/// (attempt-running.csv); partial: a checkpoint exists; else waiting.
 RunState run_state(const StudyRun& run);
 /// Whether the run has a checkpoint to resume from.
 bool has_checkpoint(const StudyRun& run);

@@ -139,6 +139,10 @@ TEST_F(StudyFile, PartialRunsComeFirstThenWaitingOnesInTheGivenOrder) {
   EXPECT_EQ(failed, 2);
   EXPECT_EQ(order(true), (std::vector<int>{3, 5, 4, 0, 2}));
   EXPECT_EQ(failed, 0);
+  // Retried and under way (or killed since: the next start folds that attempt in as -1), a failed
+  // run is partial again.
+  std::ofstream(runs[4].dir / "attempt-running.csv") << "wall_s\n12.0\n";
+  EXPECT_EQ(dld::coupler::run_state(runs[4]), dld::coupler::RunState::kPartial);
 }
 
 // --only picks runs in the order it names them (the longest first, say), --index one run; a name
