@@ -90,18 +90,24 @@ struct CouplingParams {
   /// multiple of this resumes exactly as the straight run goes on (elsewhere the resumed run would
   /// recompute what the straight one holds), so interrupted runs end at the next multiple.
   std::int64_t exact_resume_every() const {
-    return std::lcm(static_cast<std::int64_t>(force_every),
-                    static_cast<std::int64_t>(viscosity_field_every));
+    return std::lcm(std::lcm(static_cast<std::int64_t>(force_every),
+                             static_cast<std::int64_t>(viscosity_field_every)),
+                    held_resume_every);
   }
   /// Whether anything is held between steps (otherwise the coupling is exact).
   bool holds() const { return force_every > 1 || viscosity_field_every > 1; }
   /// Exact coupling (forces, viscosity field and spreading every step) for one invocation of the
   /// programs (dld-run --exact-coupling-for): the scene file, and the hash its checkpoints carry,
-  /// stay as they are, and a held run continues from the checkpoint this one leaves.
+  /// stay as they are, and a held run continues from the checkpoint this one leaves. Interrupted,
+  /// it still ends where the held coupling resumes exactly.
   void make_exact() {
+    held_resume_every = exact_resume_every();
     force_every = viscosity_field_every = 1;
     spread_held = interpolation_held = false;
   }
+
+ private:
+  std::int64_t held_resume_every = 1;  ///< make_exact: the held coupling's exact_resume_every
 };
 
 struct Scene {

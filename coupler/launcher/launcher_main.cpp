@@ -24,6 +24,7 @@
 
 #include "coupler/curve_keys.hpp"
 #include "coupler/launcher/checkpoints.hpp"
+#include "coupler/launcher/exact_stretches.hpp"
 #include "coupler/launcher/placement.hpp"
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/run_file_merge.hpp"
@@ -127,7 +128,7 @@ void add_options(CLI::App& app, Options& o) {
                  "exactly at) with forces, viscosity field and spreading every step, then the "
                  "scene's [coupling] from the checkpoint they end at; e.g. past the step where the "
                  "held coupling failed (recorded in <run>-exact-coupling.csv)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(dld::step_count());
   app.add_flag("--dry-run", o.dry, "validate the scene and print the commands, start nothing");
 }
 
@@ -453,9 +454,10 @@ int run_programs(const Options& o, const dld::Scene& scene, const RunPaths& path
   return g_interrupted ? 130 : 0;
 }
 
-/// --exact-coupling-for N: the step the exact start ends at, N steps after `from` rounded up to
-/// the next step a held run resumes exactly at; 0 when there is nothing to do (no N, or a scene
-/// that holds nothing).
+/// --exact-coupling-for N: the step the exact start is to end at, N steps after `from` rounded up
+/// to the next step a held run resumes exactly at (a start that ends sooner, at --steps or
+/// interrupted, leaves the rest to the next resume); 0 when there is nothing to do (no N, or a
+/// scene that holds nothing).
 std::int64_t exact_coupling_until(const Options& o, const dld::Scene& scene, std::int64_t from) {
   if (o.exact_coupling_for == 0) return 0;
   if (!o.with_cells())
@@ -470,27 +472,32 @@ std::int64_t exact_coupling_until(const Options& o, const dld::Scene& scene, std
     return 0;
   }
   const std::int64_t every = scene.coupling.exact_resume_every();
-  return std::min(o.steps, (from + o.exact_coupling_for + every - 1) / every * every);
+  return (from + o.exact_coupling_for + every - 1) / every * every;  // both at most 1e15
 }
 
-/// Appends the exact stretch [first, last] to <stem>-exact-coupling.csv, so that whoever reads
-/// the run's results knows which steps were not at the scene's held coupling.
-void record_exact_stretch(const std::string& stem, std::int64_t first, std::int64_t last) {
-  const std::string path = stem + "-exact-coupling.csv";
-  const bool fresh = !fs::exists(path);
-  std::ofstream out(path, std::ios::app);
-  if (fresh) out << "first_step,last_step\n";
-  out << first << ',' << last << '\n';
-  if (!out) throw std::runtime_error(path + ": cannot append the exact stretch");
+/// The exact steps and where they were to end: from --exact-coupling-for, or what is left of a
+/// stretch an earlier start ended early (interrupted, or stopped after a checkpoint).
+std::int64_t exact_end(const Options& o, const dld::Scene& scene, const std::string& record,
+                       std::int64_t from) {
+  const std::int64_t asked = exact_coupling_until(o, scene, from);
+  if (!o.resume || !scene.coupling.holds()) return asked;
+  const std::int64_t left =
+      dld::coupler::pending_exact_end(dld::coupler::read_exact_stretches(record), from);
+  if (left > asked)
+    fmt::print("dld-run: the exact stretch begun earlier was to end at step {}: it goes on\n",
+               left);
+  return std::max(asked, left);
 }
 
-/// The exact start of --exact-coupling-for (when there is one), then the scene's coupling from
-/// the checkpoint it ended at.
+/// The exact start (when there is one), then the scene's coupling from the checkpoint it ended
+/// at. The exact steps are recorded in <stem>-exact-coupling.csv however they end, as far as
+/// their checkpoints reach, with where they were to end.
 int run_phases(Options o, const dld::Scene& scene, const RunPaths& paths,
                const dld::coupler::Placement& place, int cells) {
   const int peers = scene.coupling.membrane_processes;
+  const std::string record = paths.stem + "-exact-coupling.csv";
   auto from = resume_point(o, paths.stem, cells, peers);
-  const std::int64_t until = exact_coupling_until(o, scene, from.step);
+  const std::int64_t until = exact_end(o, scene, record, from.step);
   if (until <= from.step) return run_programs(o, scene, paths, place, cells, from);
   fmt::print(
       "dld-run: steps {} to {} at exact coupling (--exact-coupling-for), then the scene's "
@@ -498,15 +505,21 @@ int run_phases(Options o, const dld::Scene& scene, const RunPaths& paths,
       from.step, until, until);
   Options exact = o;
   exact.exact_coupling = true;
-  exact.steps = until;
+  exact.steps = std::min(o.steps, until);
   dld::Scene exact_scene = scene;
   exact_scene.coupling.make_exact();
   const int rc = run_programs(exact, exact_scene, paths, place, cells, from);
-  if ((rc != 0 && rc != 130) || o.dry) return rc;
+  if (o.dry) return rc;
   o.resume = true;
-  const auto after = resume_point(o, paths.stem, cells, peers);
-  record_exact_stretch(paths.stem, from.step, after.step);
-  // Interrupted, or ended before `until` by its stop rule: that is where the run stands.
+  dld::coupler::ResumePoint after;
+  try {
+    after = resume_point(o, paths.stem, cells, peers);
+  } catch (const dld::InputError&) {  // no checkpoint of every program: nothing to record
+    return rc;
+  }
+  if (after.step > from.step)
+    dld::coupler::append_exact_stretch(record, {from.step, after.step, until});
+  // Failed, interrupted, or ended before `until` by its stop rule: that is where the run stands.
   if (rc != 0 || after.step < until || after.step >= o.steps) return rc;
   return run_programs(o, scene, paths, place, cells, after);
 }

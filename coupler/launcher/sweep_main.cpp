@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "coupler/launcher/exact_stretches.hpp"
 #include "coupler/launcher/process.hpp"
 #include "coupler/launcher/study.hpp"
 #include "coupler/launcher/sweep_report.hpp"
@@ -68,10 +69,9 @@ struct Running {
   std::size_t stretches_before{};  ///< its exact-coupling stretches when it started
 };
 
-/// The stretches a run has run at exact coupling (lines of <dir>/run-exact-coupling.csv).
+/// The stretches a run has run at exact coupling (rows of <dir>/run-exact-coupling.csv).
 std::size_t exact_stretch_count(const StudyRun& run) {
-  const std::string s = dld::coupler::exact_coupling_stretches(run);
-  return s.empty() ? 0 : 1 + static_cast<std::size_t>(std::count(s.begin(), s.end(), ';'));
+  return dld::coupler::read_exact_stretches((run.dir / "run-exact-coupling.csv").string()).size();
 }
 
 /// A failed attempt's log is kept (the next attempt rewrites dld-run.log): appended to
@@ -254,10 +254,10 @@ class Sweep {
       fmt::print("  start {} ({}): {}\n", r->name, resume ? "resuming" : "new",
                  fmt::join(cmd, " "));
       if (dry_) continue;
+      const std::size_t stretches = exact_stretch_count(*r);  // before the run can add one
       running_.push_back(
           {r, dld::coupler::start_child(r->name, cmd, (r->dir / "dld-run.log").string(), SIGTERM),
-           std::chrono::steady_clock::now(), retried && exact_for_failed_ > 0,
-           exact_stretch_count(*r)});
+           std::chrono::steady_clock::now(), retried && exact_for_failed_ > 0, stretches});
     }
   }
 
@@ -297,9 +297,11 @@ class Sweep {
 
   /// With --exact-coupling-for, a run that fails is retried at once from its checkpoint, its
   /// first steps at exact coupling, as long as every retry gets somewhere: not when the exact
-  /// steps themselves failed (no new stretch), and at most kMaxRetries times per sweep.
+  /// steps failed before their first checkpoint (no new stretch), and at most kMaxRetries times
+  /// per sweep.
   bool retry(const Running& r) {
     static constexpr int kMaxRetries = 10;
+    if (r.child.exit_code == 130) return false;  // stopped from outside: no failure
     if (exact_for_failed_ == 0 || retries_[r.run->name] >= kMaxRetries) return false;
     if (r.exact_start && exact_stretch_count(*r.run) <= r.stretches_before) return false;
     ++retries_[r.run->name];

@@ -11,6 +11,8 @@
 #include <map>
 #include <sstream>
 
+#include "coupler/launcher/exact_stretches.hpp"
+
 namespace dld::coupler {
 namespace {
 
@@ -57,12 +59,11 @@ bool last_attempt_failed(const StudyRun& run) {
 }
 }  // namespace
 
-std::string exact_coupling_stretches(const StudyRun& run) {
+std::string exact_coupling_stretches(const StudyRun& run, std::int64_t before_step) {
   std::string out;
-  for (const auto& l : lines(run.dir / "run-exact-coupling.csv")) {
-    const auto c = cells(l);
-    if (c.size() < 2 || c[0] == "first_step") continue;
-    out += fmt::format("{}{}-{}", out.empty() ? "" : ";", c[0], c[1]);
+  for (const auto& s : read_exact_stretches((run.dir / "run-exact-coupling.csv").string())) {
+    if (before_step >= 0 && s.first >= before_step) continue;
+    out += fmt::format("{}{}-{}", out.empty() ? "" : ";", s.first, s.last);
   }
   return out;
 }
@@ -274,7 +275,6 @@ SummaryTable summary_table(const Study& study, const std::vector<StudyRun>& runs
     std::map<std::string, std::string> row{{"run", run.name}};
     for (std::size_t i = 0; i < study.axes.size(); ++i)
       row[t.columns[1 + i]] = fmt::format("{:g}", run.coordinates[i]);
-    row["exact_coupling"] = exact_coupling_stretches(run);
     row["wall_s"] = fmt::format("{:.1f}", run_wall_s(run));
     const auto a = lines(run.dir / "run-summary.csv");
     if (a.size() >= 2) {
@@ -284,6 +284,10 @@ SummaryTable summary_table(const Study& study, const std::vector<StudyRun>& runs
     } else {
       ++missing;
     }
+    // The stretches of this result: a continuation of the run (hard100-fast) adds later ones.
+    const auto steps = row.find("steps");
+    row["exact_coupling"] =
+        exact_coupling_stretches(run, steps == row.end() ? -1 : std::atoll(steps->second.c_str()));
     t.rows.push_back(row);
   }
   return t;
@@ -310,8 +314,8 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
   const auto& head = t.columns;
   std::vector<std::size_t> shown;
   for (std::size_t i = 0; i < head.size(); ++i) {
-    if (i < 2 + study.axes.size() ||
-        std::string(",failure,p_f_mean,p_f_std,O1,O2,O3,O4,").find("," + head[i] + ",") !=
+    if (i < 1 + study.axes.size() ||
+        std::string(",wall_s,failure,p_f_mean,p_f_std,O1,O2,O3,O4,").find("," + head[i] + ",") !=
             std::string::npos) {
       shown.push_back(i);
     }

@@ -3,6 +3,7 @@
 // (one row per finished run: its axis values, wall time and the analysis figures) and a SLURM
 // job-array script that runs the same study on a cluster.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -31,7 +32,8 @@ std::vector<const StudyRun*> runs_to_do(const std::vector<const StudyRun*>& chos
 double run_wall_s(const StudyRun& run);
 /// The steps a run ran at exact coupling instead of its setting's held one (dld-run
 /// --exact-coupling-for, <dir>/run-exact-coupling.csv), as "first-last;first-last"; "" if none.
-std::string exact_coupling_stretches(const StudyRun& run);
+/// With before_step >= 0 only the stretches that began before it.
+std::string exact_coupling_stretches(const StudyRun& run, std::int64_t before_step = -1);
 /// How far a run got, for --list: the newest progress line of its membrane logs (step and the
 /// slowest process's pillars and its ETA, e.g. "step 4145000, 17.00/20 pillars, ETA 2.1 h") and
 /// its wall time so far (run_wall_s), and its exact-coupling stretches; "" when there is none.

@@ -190,6 +190,23 @@ TEST(Scene, TimeScaleSeparationIsOffUnlessAsked) {
   EXPECT_NE(weights.describe().find("(spread and its weights held with them)"), std::string::npos);
 }
 
+// dld-run --exact-coupling-for: the programs couple exactly (nothing held) but, interrupted, still
+// stop where the held coupling they hand back to resumes exactly (here lcm(5, 2) = 10).
+TEST(Scene, MadeExactACouplingHoldsNothingButStopsWhereTheHeldOneResumes) {
+  dld::Scene s = dld::parse_scene(std::string(kGood) +
+                                      "[coupling]\nforce_every = 5\nviscosity_field_every = "
+                                      "2\nspread_held = true\ninterpolation_held = true\n",
+                                  "good.toml");
+  EXPECT_TRUE(s.coupling.holds());
+  s.coupling.make_exact();
+  EXPECT_FALSE(s.coupling.holds());
+  EXPECT_EQ(s.coupling.force_every, 1);
+  EXPECT_EQ(s.coupling.viscosity_field_every, 1);
+  EXPECT_FALSE(s.coupling.spread_held);
+  EXPECT_FALSE(s.coupling.interpolation_held);
+  EXPECT_EQ(s.coupling.exact_resume_every(), 10);
+}
+
 TEST(Scene, BadUpdateIntervalsAreNamed) {
   expect_error(std::string(kGood) + "[coupling]\nforce_every = 0\n", "coupling.force_every", 14,
                "expected 1 to 1000 steps between membrane force updates");
