@@ -116,7 +116,7 @@ const char* state_name(RunState s) {
     case RunState::kPartial:
       return "partial (resumes from its checkpoint)";
     case RunState::kFailed:
-      return "failed (see its dld-run.log; dld-sweep --retry-failed runs it again)";
+      return "failed (see its dld-run.failures.log; dld-sweep --retry-failed runs it again)";
     default:
       return "waiting";
   }
