@@ -15,6 +15,11 @@ struct ExactStretch {
   std::int64_t planned = 0;          ///< where it was to end (= last when it got there)
 };
 
+/// The record of a run whose files have the stem `stem` (e.g. <dir>/run):
+/// <stem>-exact-coupling.csv, written by dld-run, read by dld-sweep.
+inline std::string exact_stretches_file(const std::string& stem) {
+  return stem + "-exact-coupling.csv";
+}
 /// The file's stretches, in order; none when it does not exist. Rows of two columns (files
 /// written before the plan was kept) count as finished. Throws InputError naming the file and
 /// line for a row that is not numbers.

@@ -495,7 +495,7 @@ std::int64_t exact_end(const Options& o, const dld::Scene& scene, const std::str
 int run_phases(Options o, const dld::Scene& scene, const RunPaths& paths,
                const dld::coupler::Placement& place, int cells) {
   const int peers = scene.coupling.membrane_processes;
-  const std::string record = paths.stem + "-exact-coupling.csv";
+  const std::string record = dld::coupler::exact_stretches_file(paths.stem);
   auto from = resume_point(o, paths.stem, cells, peers);
   const std::int64_t until = exact_end(o, scene, record, from.step);
   if (until <= from.step) return run_programs(o, scene, paths, place, cells, from);

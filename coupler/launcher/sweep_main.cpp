@@ -71,7 +71,9 @@ struct Running {
 
 /// The stretches a run has run at exact coupling (rows of <dir>/run-exact-coupling.csv).
 std::size_t exact_stretch_count(const StudyRun& run) {
-  return dld::coupler::read_exact_stretches((run.dir / "run-exact-coupling.csv").string()).size();
+  return dld::coupler::read_exact_stretches(
+             dld::coupler::exact_stretches_file((run.dir / "run").string()))
+      .size();
 }
 
 /// A failed attempt's log is kept (the next attempt rewrites dld-run.log): appended to

@@ -61,7 +61,7 @@ bool last_attempt_failed(const StudyRun& run) {
 
 std::string exact_coupling_stretches(const StudyRun& run, std::int64_t before_step) {
   std::string out;
-  for (const auto& s : read_exact_stretches((run.dir / "run-exact-coupling.csv").string())) {
+  for (const auto& s : read_exact_stretches(exact_stretches_file((run.dir / "run").string()))) {
     if (before_step >= 0 && s.first >= before_step) continue;
     out += fmt::format("{}{}-{}", out.empty() ? "" : ";", s.first, s.last);
   }
