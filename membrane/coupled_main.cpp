@@ -31,6 +31,7 @@
 #include "membrane/mesh_output.hpp"
 #include "membrane/run_checkpoint.hpp"
 #include "membrane/stability_guard.hpp"
+#include "membrane/triangle_watch.hpp"
 #include "shared/column_tracker.hpp"
 #include "shared/input_error.hpp"
 
@@ -134,7 +135,8 @@ class CoupledRun {
   // Stops the run at once when a cell goes unstable; no checkpoint is written after that, so the
   // last one on disk is the last good state.
   std::optional<StabilityGuard> guard_;
-  std::optional<CellsPartFile> part_;  // made once connected: an error then reaches the fluid
+  std::optional<TriangleWatch> watch_;  // smallest triangle area ratios, for warnings and lines
+  std::optional<CellsPartFile> part_;   // made once connected: an error then reaches the fluid
   std::optional<MeshOutput> mesh_;
   Clock::time_point start_;
   double t_membrane_ = 0, t_exchange_ = 0;
@@ -169,6 +171,7 @@ CoupledRun::CoupledRun(const Scene& scene, const MembraneScene& m, const Coupled
       face_indices(cells_.reference(), cells_.cell_count()));
   resume();
   guard_.emplace(scene.cell_lu(), dx_um_, GuardLimits{}, v0_);
+  watch_.emplace(cells_.reference());
 }
 
 coupler::MembraneConfig CoupledRun::config() const {
@@ -300,9 +303,14 @@ void CoupledRun::progress(std::int64_t step) const {
     modes += fmt::format(
         " {}:{}{}", first_ + k, to_string(tracker_->mode(k)),
         tracker_->mode(k) != TransportMode::kUndecided && !tracker_->certain(k) ? "?" : "");
-  spdlog::info("step {:>9}  pillars passed {:.2f}{}  {:.1f} steps/s{}  modes{}", step, done,
+  const int worst = watch_->worst_cell_now();
+  const std::string triangles =
+      worst < 0 ? std::string()
+                : fmt::format("  smallest triangle {:.2f} of rest area (cell {})",
+                              watch_->now(worst), first_ + worst);
+  spdlog::info("step {:>9}  pillars passed {:.2f}{}  {:.1f} steps/s{}  modes{}{}", step, done,
                a_.pillars > 0 ? fmt::format("/{}", a_.pillars) : std::string(),
-               static_cast<double>(step - offset_) / secs, eta, modes);
+               static_cast<double>(step - offset_) / secs, eta, modes, triangles);
 }
 
 void CoupledRun::summary() const {
@@ -310,11 +318,11 @@ void CoupledRun::summary() const {
     spdlog::info(
         "summary: cell {}  mode {}  columns {}  lateral shift per column {:.3f} um "
         "(d = {} um)  volume change {:+.3f} % (largest {:.3f} %)  deepest node in a wall or "
-        "the pillar {:.3f} um",
+        "the pillar {:.3f} um  smallest triangle {:.3f} of rest area",
         first_ + k, to_string(tracker_->final_mode(k)), tracker_->columns(k),
         tracker_->shift_per_column(k), facts_.row_shift_um,
         100 * (cells_.volume(k) / v0_[static_cast<std::size_t>(k)] - 1),
-        100 * guard_->worst_volume_change(k), guard_->worst_penetration_um(k));
+        100 * guard_->worst_volume_change(k), guard_->worst_penetration_um(k), watch_->smallest(k));
 }
 
 // Steps from s to the next one at which this program has work: a force update, a sample, a mesh,
@@ -388,6 +396,7 @@ void CoupledRun::after_steps(std::int64_t e, std::string& stop) {
   if (e % a_.sample_every == 0) {
     sample(e);
     guard_->check(cells_, e, first_);
+    for (const std::string& w : watch_->update(cells_, e, first_)) spdlog::warn("{}", w);
     if (stop.empty() && a_.pillars > 0 && tracker_->min_columns() >= a_.pillars)
       stop = fmt::format("every cell passed {} pillars", a_.pillars);
     if (stop.empty() && a_.stop_when_mode_certain && tracker_->all_modes_certain())

@@ -11,6 +11,7 @@
 #include <variant>
 #include <vector>
 
+#include "membrane/area_barrier.hpp"
 #include "membrane/area_penalty.hpp"
 #include "membrane/bending_model.hpp"
 #include "membrane/model_context.hpp"
@@ -23,7 +24,7 @@
 namespace dld::membrane {
 
 using AnyModel = std::variant<SkalakModel, NeoHookeanModel, BendingModel, VolumePenalty,
-                              AreaPenalty, SpringNetwork>;
+                              AreaPenalty, SpringNetwork, AreaBarrier>;
 
 struct ModelEntry {
   std::string_view name;
