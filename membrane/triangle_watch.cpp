@@ -40,8 +40,8 @@ std::vector<std::string> TriangleWatch::update(const CellSet& cells, std::int64_
       warned_[k] = true;
       warnings.push_back(fmt::format(
           "cell {} triangle {} is compressed to {:.2f} of its rest area at step {}: below "
-          "1/sqrt(3), where Skalak's area term gives way (collapsing triangles came before the "
-          "dense runs' late stops; model area_barrier keeps resisting)",
+          "1/sqrt(3), where Skalak's area term gives way (collapsed triangles, in the film against "
+          "the pillar or a wall, came before the dense runs' late stops: docs/results.md)",
           first_cell + static_cast<int>(k), worst, least, step));
     }
   }
