@@ -345,6 +345,11 @@ int supervise(std::vector<dld::coupler::Child>& children, const dld::Scene& scen
         // waiting its whole handshake timeout; there is nothing of the run to keep yet.
         if (&c != &children[0] && children[0].running && !handshake_done(children[0].log))
           dld::coupler::signal_child(children[0], SIGTERM);
+        // And the other way round: membrane programs without their hello yet (still meshing or
+        // packing cells) would not hear of the fluid's failure until the timeout.
+        if (&c == &children[0] && !handshake_done(c.log))
+          for (auto& m : children)
+            if (&m != &c && m.running) dld::coupler::signal_child(m, SIGTERM);
       }
       any_running = any_running || c.running;
     }

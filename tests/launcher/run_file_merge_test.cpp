@@ -298,6 +298,20 @@ TEST_F(DldRunMerge, AMembraneThatFailsAtStartUpStopsTheRunAtOnce) {
   EXPECT_NE(out.find("dld-membrane: error: scene.toml: bad mesh"), std::string::npos) << out;
 }
 
+// The other way round: a fluid that fails before the handshake (e.g. refusing a checkpoint) stops
+// membrane programs still busy before their hello (packing cells) at once, not after the timeout.
+TEST_F(DldRunMerge, AFluidThatFailsBeforeTheHandshakeStopsTheRunAtOnce) {
+  std::ofstream(bin() / "dld-membrane.sleep") << "60\n";
+  say("dld-fluid",
+      "[dld-fluid] error: run-fluid.ckpt.h5: /fluid scene_hash a is not the scene's b\n");
+  exit_code("dld-fluid", 3);
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto [code, out] = run();
+  EXPECT_EQ(code, 3) << out;
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10)) << out;
+  EXPECT_NE(out.find("scene_hash a is not the scene's b"), std::string::npos) << out;
+}
+
 // --dry-run checks the membrane part too (dld-membrane --check): its refusal is dld-run's, exit 2.
 TEST_F(DldRunMerge, DryRunRefusesAnInvalidMembranePart) {
   say("dld-membrane", "dld-membrane: error: scene.toml:12: 'membrane.mesh_faces': too few\n");
