@@ -61,8 +61,9 @@ TEST_P(EveryModel, ForceIsMinusFiniteDifferenceGradient) {
     x.row(2) *= 0.8;
     x = test::perturbed(x, 0.05, seed);
     const Points f = forces(model, x);
+    const AnyModel& m = model;  // a lambda cannot capture a structured binding before C++20
     const Points fd =
-        finite_difference_forces([&](const Points& y) { return energy(model, y); }, x, 1e-5);
+        finite_difference_forces([&m](const Points& y) { return energy(m, y); }, x, 1e-5);
     const double rel = (f - fd).norm() / f.norm();
     std::printf("%s seed %u: |F + grad E_fd| / |F| = %.2e\n", name.c_str(), seed, rel);
     EXPECT_LT(rel, 1e-6);
