@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <fstream>
@@ -87,27 +88,41 @@ void keep_failure_log(const StudyRun& run, int exit_code) {
       << slurp(run.dir / "dld-run.log");
 }
 
-/// dld-analyze on a finished run (its CSVs and plots go into the run's directory): on the run file
-/// dld-run wrote, else (dld-run could not merge; it said why in the run's log) on the part files,
-/// which give the same results.
-int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::string& exe) {
-  std::vector<std::string> argv{exe};
-  if (fs::is_regular_file(run.dir / "run.h5")) {
-    argv.push_back((run.dir / "run.h5").string());
-  } else {
-    for (const auto& e : fs::directory_iterator(run.dir)) {
-      const std::string f = e.path().filename().string();
-      if (f.rfind("run-cells-", 0) == 0 && f.size() > 3 && f.substr(f.size() - 3) == ".h5" &&
-          f.find(".ckpt") == std::string::npos) {
-        argv.push_back(e.path().string());
-      }
+/// The membrane part files dld-run writes (run-cells-K.h5), in the run's directory.
+std::vector<std::string> part_files(const StudyRun& run) {
+  std::vector<std::string> parts;
+  for (const auto& e : fs::directory_iterator(run.dir)) {
+    const std::string f = e.path().filename().string();
+    if (f.rfind("run-cells-", 0) == 0 && f.size() > 3 && f.substr(f.size() - 3) == ".h5" &&
+        f.find(".ckpt") == std::string::npos) {
+      parts.push_back(e.path().string());
     }
   }
-  argv.insert(argv.end(), {"--pillars", std::to_string(study.pillars), "-o", run.dir.string()});
+  std::sort(parts.begin(), parts.end());
+  return parts;
+}
+
+/// dld-analyze on a finished run (its CSVs and plots go into the run's directory): on the run file
+/// dld-run wrote, else (dld-run could not merge; it said why in the run's log) on the part files,
+/// which give the same results. `so_far`: on an unfinished run as it stands, into so_far_dir,
+/// from its part files (a run file there may be an older attempt's merge).
+int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::string& exe,
+            bool so_far = false) {
+  std::vector<std::string> argv{exe};
+  const fs::path out = so_far ? dld::coupler::so_far_dir(run) : run.dir;
+  const std::vector<std::string> parts = part_files(run);
+  if (fs::is_regular_file(run.dir / "run.h5") && (!so_far || parts.empty())) {
+    argv.push_back((run.dir / "run.h5").string());
+  } else {
+    argv.insert(argv.end(), parts.begin(), parts.end());
+  }
+  if (argv.size() == 1) return -1;  // nothing written yet
+  fs::create_directories(out);
+  argv.insert(argv.end(), {"--pillars", std::to_string(study.pillars), "-o", out.string()});
   if (!study.modes.empty()) {
     argv.insert(argv.end(), {"--modes", study.modes.string()});
   }
-  auto c = dld::coupler::start_child("dld-analyze", argv, (run.dir / "analysis.txt").string());
+  auto c = dld::coupler::start_child("dld-analyze", argv, (out / "analysis.txt").string());
   return dld::coupler::wait_child(c);
 }
 
@@ -128,7 +143,7 @@ struct Options {
   dld::coupler::SlurmLayout layout;  ///< --membrane-nodes, --membrane-processes
   std::vector<std::string> hosts;
   std::vector<std::string> only;
-  bool list = false, summary_only = false, dry = false, retry_failed = false;
+  bool list = false, summary_only = false, unfinished = false, dry = false, retry_failed = false;
   std::int64_t exact_coupling_for = 0;  ///< with retry_failed: dld-run --exact-coupling-for
 };
 
@@ -155,6 +170,10 @@ void add_options(CLI::App& app, Options& o) {
                  "sweep is retried so at once, while each retry gets past its exact steps")
       ->check(CLI::PositiveNumber);
   app.add_flag("--summary", o.summary_only, "only collect the summary table and plots");
+  app.add_flag("--unfinished", o.unfinished,
+               "with --summary: also analyse each partial or failed run as it stands (each cell "
+               "over the pillars it passed; into RUN/so-far), in summary-unfinished.csv and as "
+               "open markers in the plot");
   app.add_option("--slurm", o.slurm, "write a SLURM job-array script to this file, run nothing");
   app.add_flag("--dry-run", o.dry, "write the run scenes and print the commands, start nothing");
   app.add_option("--membrane-processes", o.layout.membrane_processes,
@@ -176,20 +195,50 @@ std::vector<std::string> placement_args(const Options& o) {
   return a;
 }
 
-/// The summary table of the whole study and its failure-probability plot.
+/// Each partial or failed run analysed as it stands (dld-analyze into so_far_dir), then the rows
+/// of those that have an analysis in summary-unfinished.csv; its path, or "" if none.
+std::string write_unfinished(const dld::coupler::Study& study, const std::vector<StudyRun>& runs,
+                             const std::string& resolution) {
+  std::string exe;
+  try {
+    exe = dld::coupler::find_program("dld-analyze", DLD_ANALYZE_EXE);
+  } catch (const dld::InputError&) {
+    fmt::print(stderr, "dld-sweep: dld-analyze not built: unfinished runs are not analysed\n");
+    return "";
+  }
+  setenv("HDF5_USE_FILE_LOCKING", "FALSE", 1);  // a running run's part files are open for writing
+  for (const auto& run : runs) {
+    const auto state = dld::coupler::run_state(run);
+    if (state != dld::coupler::RunState::kPartial && state != dld::coupler::RunState::kFailed)
+      continue;
+    // A run that passed no pillar yet is refused by dld-analyze ("nothing to evaluate"): its line.
+    if (analyze(run, study, exe, true) > 0) {
+      fmt::print(
+          stderr, "  {}: not analysed: {}\n", run.name,
+          dld::coupler::error_line((dld::coupler::so_far_dir(run) / "analysis.txt").string()));
+    }
+  }
+  return dld::coupler::write_unfinished_summary(study, runs, resolution);
+}
+
+/// The summary table of the whole study and its failure-probability plot; `unfinished`: with the
+/// partial and failed runs as they stand, as open markers.
 void write_study_summary(const dld::coupler::Study& study, const std::vector<StudyRun>& runs,
-                         const std::string& resolution) {
+                         const std::string& resolution, bool unfinished = false) {
   const std::string csv = dld::coupler::write_summary(study, runs, resolution);
+  const std::string so_far = unfinished ? write_unfinished(study, runs, resolution) : "";
   const fs::path plot = fs::path(DLD_SOURCE_DIR) / "analysis" / "plot_study.py";
   if (!fs::exists(plot) || !fs::exists("/usr/bin/python3")) return;
   const std::string png = (fs::path(csv).parent_path() / "failure-probability.png").string();
   std::vector<std::string> p{"/usr/bin/python3", plot.string(), csv, "-o", png};
+  if (!so_far.empty()) p.insert(p.end(), {"--unfinished", so_far});
   auto c = dld::coupler::start_child("plot_study", p,
                                      (fs::path(csv).parent_path() / "plots.log").string());
   if (dld::coupler::wait_child(c) != 0) {
-    fmt::print(stderr, "dld-sweep: plot_study.py failed: see {}\n", c.log);
+    fmt::print(stderr, "dld-sweep: no plot: {}\n", dld::coupler::error_line(c.log));
   } else {
-    fmt::print("plot: {} (trajectories and outlets: each run's directory)\n", png);
+    fmt::print("plot: {} (trajectories and outlets: each run's directory{})\n", png,
+               so_far.empty() ? "" : "; as they stand: RUN/so-far");
   }
 }
 
@@ -378,7 +427,9 @@ static int run_main(int argc, char** argv) {
                    progress.empty() ? "" : ": " + progress);
       }
     }
-    if (o.summary_only) write_study_summary(study, runs, resolution);
+    if (o.unfinished && !o.summary_only)
+      throw dld::InputError("--unfinished: expected --summary too (it adds to the summary)");
+    if (o.summary_only) write_study_summary(study, runs, resolution, o.unfinished);
     if (o.list || o.summary_only) return 0;
 
     int done_before = 0, failed_before = 0;

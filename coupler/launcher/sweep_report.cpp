@@ -261,28 +261,38 @@ struct SummaryTable {
   }
 };
 
-/// The finished runs' rows: the axes, the wall time and dld-analyze's run summary. `missing`
-/// counts the finished runs without one.
-SummaryTable summary_table(const Study& study, const std::vector<StudyRun>& runs, int& missing) {
+/// The rows of the finished runs (their <dir>/run-summary.csv) or, `unfinished`, of the partial
+/// and failed ones that have an analysis of what they ran so far (<dir>/so-far/run-summary.csv,
+/// under a `state` column): the axes, the wall time and dld-analyze's run summary. `missing`
+/// counts the runs without one.
+SummaryTable summary_table(const Study& study, const std::vector<StudyRun>& runs, bool unfinished,
+                           int& missing) {
   SummaryTable t;
   std::map<std::string, std::string> none;
   t.add(none, "run", "");
+  if (unfinished) t.add(none, "state", "");
   for (const auto& a : study.axes) t.add(none, a.column.empty() ? a.name : a.column, "");
   t.add(none, "exact_coupling", "");  // before wall_s: the analysis's columns follow wall_s
   t.add(none, "wall_s", "");
+  const std::size_t first_axis = unfinished ? 2 : 1;
   for (const auto& run : runs) {
-    if (run_state(run) != RunState::kDone) continue;
+    const RunState state = run_state(run);
+    const bool done = state == RunState::kDone;
+    if (unfinished ? (done || state == RunState::kWaiting) : !done) continue;
     std::map<std::string, std::string> row{{"run", run.name}};
+    if (unfinished) row["state"] = state == RunState::kFailed ? "failed" : "partial";
     for (std::size_t i = 0; i < study.axes.size(); ++i)
-      row[t.columns[1 + i]] = fmt::format("{:g}", run.coordinates[i]);
+      row[t.columns[first_axis + i]] = fmt::format("{:g}", run.coordinates[i]);
     row["wall_s"] = fmt::format("{:.1f}", run_wall_s(run));
-    const auto a = lines(run.dir / "run-summary.csv");
-    if (a.size() >= 2) {
+    const auto a =
+        lines(unfinished ? so_far_dir(run) / "run-summary.csv" : run.dir / "run-summary.csv");
+    if (a.size() < 2) {
+      ++missing;
+      if (unfinished) continue;  // nothing to show but its name: --list has that
+    } else {
       const auto names = cells(a[0]), values = cells(a[1]);
       for (std::size_t i = 0; i < names.size(); ++i)
         t.add(row, names[i], i < values.size() ? values[i] : "");
-    } else {
-      ++missing;
     }
     // The stretches of this result: a continuation of the run (hard100-fast) adds later ones.
     const auto steps = row.find("steps");
@@ -293,30 +303,23 @@ SummaryTable summary_table(const Study& study, const std::vector<StudyRun>& runs
   return t;
 }
 
-}  // namespace
-
-std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
-                          const std::string& resolution) {
-  const fs::path dir = study.output / (resolution.empty() ? std::string("default") : resolution);
-  fs::create_directories(dir);
-  const fs::path csv = dir / "summary.csv";
-  int missing = 0;
-  const SummaryTable t = summary_table(study, runs, missing);
+void write_table(const fs::path& csv, const SummaryTable& t) {
   {
     std::ofstream out(csv.string() + ".tmp");
     out << fmt::format("{}", fmt::join(t.columns, ",")) << "\n";
     for (const auto& r : t.rows) out << t.line(r) << "\n";
   }
   fs::rename(csv.string() + ".tmp", csv);
-  fmt::print("sweep summary ({} of {} runs finished{}): {}\n", t.rows.size(), runs.size(),
-             missing ? fmt::format(", {} without analysis", missing) : "", csv.string());
-  // On the terminal: the axes, wall time and the analysis's headline figures.
+}
+
+/// On the terminal: the axes (and the state), wall time and the analysis's headline figures.
+void print_table(const Study& study, const SummaryTable& t, std::size_t first_axis) {
   const auto& head = t.columns;
   std::vector<std::size_t> shown;
   for (std::size_t i = 0; i < head.size(); ++i) {
-    if (i < 1 + study.axes.size() ||
-        std::string(",wall_s,failure,p_f_mean,p_f_std,O1,O2,O3,O4,").find("," + head[i] + ",") !=
-            std::string::npos) {
+    if (i < first_axis + study.axes.size() ||
+        std::string(",wall_s,failure,p_f_mean,p_f_std,O1,O2,O3,O4,slowest_cell_pillars,")
+                .find("," + head[i] + ",") != std::string::npos) {
       shown.push_back(i);
     }
   }
@@ -331,6 +334,45 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
     }
     fmt::print("\n");
   }
+}
+
+}  // namespace
+
+fs::path so_far_dir(const StudyRun& run) {
+  return run.dir / "so-far";
+}
+
+std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
+                          const std::string& resolution) {
+  const fs::path dir = study.output / (resolution.empty() ? std::string("default") : resolution);
+  fs::create_directories(dir);
+  const fs::path csv = dir / "summary.csv";
+  int missing = 0;
+  const SummaryTable t = summary_table(study, runs, false, missing);
+  write_table(csv, t);
+  fmt::print("sweep summary ({} of {} runs finished{}): {}\n", t.rows.size(), runs.size(),
+             missing ? fmt::format(", {} without analysis", missing) : "", csv.string());
+  print_table(study, t, 1);
+  return csv.string();
+}
+
+std::string write_unfinished_summary(const Study& study, const std::vector<StudyRun>& runs,
+                                     const std::string& resolution) {
+  const fs::path dir = study.output / (resolution.empty() ? std::string("default") : resolution);
+  fs::create_directories(dir);
+  const fs::path csv = dir / "summary-unfinished.csv";
+  int missing = 0;
+  const SummaryTable t = summary_table(study, runs, true, missing);
+  if (t.rows.empty()) {
+    fs::remove(csv);  // no stale rows of runs that have finished since
+    return "";
+  }
+  write_table(csv, t);
+  fmt::print(
+      "unfinished runs so far (every cell over the pillars it passed; not results of the "
+      "study's rule; {} of them{}): {}\n",
+      t.rows.size(), missing ? fmt::format(", {} without analysis", missing) : "", csv.string());
+  print_table(study, t, 2);
   return csv.string();
 }
 

@@ -4,6 +4,7 @@
 // job-array script that runs the same study on a cluster.
 #pragma once
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,13 @@ void mark_done(const StudyRun& run, double wall_s);
 /// by dld-analyze) and prints it as a table; returns the CSV path.
 std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
                           const std::string& resolution);
+/// Where dld-sweep --summary --unfinished analyses a partial or failed run as it stands.
+std::filesystem::path so_far_dir(const StudyRun& run);
+/// Writes <output>/<resolution>/summary-unfinished.csv: one row per partial or failed run with an
+/// analysis in so_far_dir (each cell over the pillars it passed, at most the study's), with its
+/// state; prints it; returns the CSV path, or "" (and no file) when there is no such run.
+std::string write_unfinished_summary(const Study& study, const std::vector<StudyRun>& runs,
+                                     const std::string& resolution);
 
 /// How each task of a SLURM array spreads its run: membrane_nodes 0 keeps the whole run on one
 /// node (one task of 2 cores); M > 0 gives it 1 + M nodes, the fluid on the first and

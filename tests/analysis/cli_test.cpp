@@ -283,6 +283,39 @@ TEST(PlotStudy, DrawsFailureAgainstHaematocritFromSummaries) {
       << bad.output;
 }
 
+TEST(PlotStudy, DrawsUnfinishedRunsAsFarAsTheyGotBesideTheFinishedOnes) {
+  if (!have_matplotlib()) {
+    GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
+  }
+  const std::string dir = testing::temp_dir("study-unfinished");
+  const std::string head =
+      "haematocrit_percent,row_shift_um,capillary_number,p_f_mean,p_f_std,pillar_spacing_um";
+  // No finished run has a failure probability yet: the unfinished ones alone make the plot.
+  std::ofstream(dir + "/done.csv") << head << "\n8.0,4.4,0.2,,,32\n";
+  std::ofstream(dir + "/so-far.csv")
+      << "state," << head << ",slowest_cell_pillars\nfailed,32.2,4.4,0.2,0.103,0.03,32,18.671\n"
+      << "partial,45.6,6.0,1.0,0.004,0.055,32,3.26\npartial,40.2,6.0,1.0,,,32,0.4\n";
+  const std::string plot = "/usr/bin/python3 " DLD_SOURCE_DIR "/analysis/plot_study.py " + dir;
+  const Result r =
+      run(plot + "/done.csv -o " + dir + "/study.png --unfinished " + dir + "/so-far.csv", dir);
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_GT(fs::file_size(dir + "/study.png"), 1000u);
+  EXPECT_NE(r.output.find("unfinished: d 4.4 um, Ca 0.2, Ht 32.2 %: 0.1030 +- 0.0300 (failed, "
+                          "slowest cell 18.7 pillars)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("Ht 45.6 %: 0.0040 +- 0.0550 (partial, slowest cell 3.3 pillars)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("Ht 40.2"), std::string::npos) << "no failure probability, no point";
+  std::ofstream(dir + "/stateless.csv") << head << "\n32.2,4.4,0.2,0.1,0.03,32\n";
+  const Result bad =
+      run(plot + "/done.csv -o " + dir + "/bad.png --unfinished " + dir + "/stateless.csv", dir);
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.output.find("stateless.csv: missing column state"), std::string::npos)
+      << bad.output;
+}
+
 TEST(PlotVolumeDrift, GivesTheSmallestAndTheMeanVolumeChangeOverEveryPart) {
   if (!have_matplotlib()) {
     GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib";
