@@ -111,6 +111,7 @@ class CoupledRun {
   void apply_halo();
   void progress(std::int64_t step) const;
   void summary() const;
+  std::string state_at_stop(std::int64_t step);
   double slowest_columns() const;
   std::vector<Eigen::Vector3d> centroids_um() const;
   std::vector<Eigen::Vector3d> row_centroids(std::size_t r) const;
@@ -313,6 +314,27 @@ void CoupledRun::progress(std::int64_t step) const {
                static_cast<double>(step - offset_) / secs, eta, modes, triangles);
 }
 
+// The membranes when a run stops on an error: collapsed triangles came before every late stop of
+// the dense runs (docs/results.md, "Why the dense runs go unstable late"), so the error line names
+// the cells that have them. Reads positions only.
+std::string CoupledRun::state_at_stop(std::int64_t step) {
+  if (!watch_) return "";
+  watch_->update(cells_, step, first_);  // its first-time warnings would repeat what follows
+  const int worst = watch_->worst_cell_now();
+  if (worst < 0) return "";
+  std::string below;
+  for (int k = 0; k < cells_.cell_count(); ++k)
+    if (watch_->now(k) < TriangleWatch::kSkalakPeak)
+      below += fmt::format("{}{} ({:.3f})", below.empty() ? "" : ", ", first_ + k, watch_->now(k));
+  return fmt::format(
+      "; membranes at step {}: smallest triangle {:.3f} of rest area (cell {}){}", step,
+      watch_->now(worst), first_ + worst,
+      below.empty() ? std::string()
+                    : "; cells with triangles below 1/sqrt(3) of rest area, where Skalak's area "
+                      "term weakens: " +
+                          below);
+}
+
 void CoupledRun::summary() const {
   for (int k = 0; k < cells_.cell_count(); ++k)
     spdlog::info(
@@ -411,6 +433,7 @@ int CoupledRun::run() {
     if (part_) part_->file().flush();
   };
   start_ = Clock::now();
+  std::int64_t s = offset_;
   try {
     side_.initialize(cells_.flat_positions());
     apply_halo();
@@ -425,7 +448,6 @@ int CoupledRun::run() {
     if (mesh_ && offset_ % mesh_every == 0 &&
         (mesh_->samples().empty() || mesh_->samples().back().step < offset_))
       sample_mesh(offset_);
-    std::int64_t s = offset_;
     const std::string reason = step_loop(s);
     side_.finalize();
     finish();
@@ -446,12 +468,12 @@ int CoupledRun::run() {
     return 0;
   } catch (const coupler::CouplerError& e) {
     finish();
-    spdlog::error("{}", e.what());
+    spdlog::error("{}{}", e.what(), state_at_stop(s));
     return 3;
   } catch (const std::exception& e) {
     side_.abort(e.what());
     finish();
-    spdlog::error("{}", e.what());
+    spdlog::error("{}{}", e.what(), state_at_stop(s));
     return 1;
   }
 }
