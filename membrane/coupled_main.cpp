@@ -32,6 +32,7 @@
 #include "membrane/run_checkpoint.hpp"
 #include "membrane/stability_guard.hpp"
 #include "membrane/triangle_watch.hpp"
+#include "membrane/volume_correction.hpp"
 #include "shared/column_tracker.hpp"
 #include "shared/input_error.hpp"
 
@@ -112,6 +113,7 @@ class CoupledRun {
   void progress(std::int64_t step) const;
   void summary() const;
   std::string state_at_stop(std::int64_t step);
+  void restore_volumes();
   double slowest_columns() const;
   std::vector<Eigen::Vector3d> centroids_um() const;
   std::vector<Eigen::Vector3d> row_centroids(std::size_t r) const;
@@ -124,6 +126,8 @@ class CoupledRun {
   const double dx_um_;
   const double halo_;  // contact halo width [lattice lengths], 0: none
   std::vector<double> v0_;
+  std::vector<double>
+      restored_;  // each cell's volume given back ([coupling] volume_correction_every)
   coupler::MembraneSide side_;
   RunFacts facts_;
   RunCheckpoint expected_;
@@ -345,6 +349,13 @@ void CoupledRun::summary() const {
         tracker_->shift_per_column(k), facts_.row_shift_um,
         100 * (cells_.volume(k) / v0_[static_cast<std::size_t>(k)] - 1),
         100 * guard_->worst_volume_change(k), guard_->worst_penetration_um(k), watch_->smallest(k));
+  if (!restored_.empty())
+    for (int k = 0; k < cells_.cell_count(); ++k)
+      spdlog::info(
+          "summary: cell {}  volume given back since this start {:+.4f} % ([coupling] "
+          "volume_correction_every {})",
+          first_ + k, 100 * restored_[static_cast<std::size_t>(k)],
+          scene_.coupling.volume_correction_every);
 }
 
 // Steps from s to the next one at which this program has work: a force update, a sample, a mesh,
@@ -359,7 +370,7 @@ std::int64_t CoupledRun::held_steps(std::int64_t s) const {
   };
   for (const std::int64_t every : std::initializer_list<std::int64_t>{
            scene_.coupling.force_every, a_.sample_every, scene_.output.mesh_every,
-           a_.checkpoint_every, scene_.run.log_every})
+           scene_.coupling.volume_correction_every, a_.checkpoint_every, scene_.run.log_every})
     up_to_next(every);
   return next - s;
 }
@@ -424,8 +435,22 @@ void CoupledRun::after_steps(std::int64_t e, std::string& stop) {
     if (stop.empty() && a_.stop_when_mode_certain && tracker_->all_modes_certain())
       stop = "every cell's mode is certain";
   }
+  const std::int64_t correct_every = scene_.coupling.volume_correction_every;
+  if (correct_every > 0 && e % correct_every == 0) restore_volumes();  // after the sample
   if (a_.checkpoint_every > 0 && e % a_.checkpoint_every == 0) checkpoint(e);
   if (e % scene_.run.log_every == 0) progress(e);
+}
+
+// Each cell's rest volume back ([coupling] volume_correction_every; numerics): the fluid gets the
+// moved nodes with the next exchange, as it gets every position from here.
+void CoupledRun::restore_volumes() {
+  restored_.resize(static_cast<std::size_t>(cells_.cell_count()), 0.0);
+  const Eigen::Index n = cells_.nodes_per_cell();
+  for (int k = 0; k < cells_.cell_count(); ++k) {
+    const auto i = static_cast<std::size_t>(k);  // v0_: the rest volumes the guard measures from
+    restored_[i] += restore_volume(cells_.positions().middleCols(Eigen::Index{k} * n, n),
+                                   cells_.reference().faces, v0_[i]);
+  }
 }
 
 int CoupledRun::run() {

@@ -164,6 +164,12 @@ void read_coupling(const TomlSection& c, Scene& s) {
   s.coupling.interpolation_held = c.boolean("interpolation_held", false);
   if (s.coupling.interpolation_held && !s.coupling.spread_held)
     c.fail("interpolation_held", "needs spread_held = true (the weights held are the spread's)");
+  s.coupling.volume_correction_every = c.integer("volume_correction_every", 0);
+  if (s.coupling.volume_correction_every < 0 || s.coupling.volume_correction_every > 1000000 ||
+      s.coupling.volume_correction_every % s.coupling.force_every != 0)
+    c.fail("volume_correction_every",
+           fmt::format("expected 0 (never) or a multiple of force_every ({}) up to 1000000 steps",
+                       s.coupling.force_every));
 }
 
 Scene read(const std::shared_ptr<TomlDocument>& doc, bool check_unknown, std::string_view text) {
@@ -261,6 +267,8 @@ std::string Scene::describe() const {
       : coupling.interpolation_held ? " (spread and its weights held with them)"
                                     : " (spread held with them)",
       coupling.viscosity_field_every);
+  if (coupling.volume_correction_every > 0)
+    out += fmt::format(", cell volumes restored every {} steps", coupling.volume_correction_every);
   return out;
 }
 

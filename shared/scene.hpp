@@ -86,6 +86,10 @@ struct CouplingParams {
   /// velocity interpolated at their positions of the last force update (cheaper again, but the
   /// enclosed volumes drift faster: docs/performance.md, "Held spreading").
   bool interpolation_held = false;
+  /// Every this many steps the membrane programs give each cell back the volume the immersed
+  /// boundary let through since (membrane/volume_correction.hpp; numerics: the smallest node
+  /// displacement that restores the rest volume); 0 = never. A multiple of force_every.
+  std::int64_t volume_correction_every = 0;
   /// The steps at which both held quantities are updated: a run stopped and checkpointed at a
   /// multiple of this resumes exactly as the straight run goes on (elsewhere the resumed run would
   /// recompute what the straight one holds), so interrupted runs end at the next multiple.

@@ -23,10 +23,14 @@ KNOBS = {
     "spread_held": ("coupling.spread_held", lambda v: isinstance(v, bool), "true or false"),
     "interpolation_held": ("coupling.interpolation_held", lambda v: isinstance(v, bool),
                            "true or false (true needs spread_held = true)"),
+    "volume_correction_every": ("coupling.volume_correction_every",
+                                lambda v: _int(v) and 0 <= v <= 1000000,
+                                "steps 0..1000000 (0: never; a multiple of force_every)"),
 }
 # Knobs a grid may leave out of [reference]: their value where no point names them (a grid made
 # before the knob existed keeps its runs: scenes name such a knob only where a point changes it).
-KNOB_DEFAULTS = {"collision": "trt", "spread_held": False, "interpolation_held": False}
+KNOB_DEFAULTS = {"collision": "trt", "spread_held": False, "interpolation_held": False,
+                 "volume_correction_every": 0}
 KINDS = {"dilute": ("row_shift_um", "capillary_number", "columns"),
          "dense": ("row_shift_um", "capillary_number", "cells", "t_pprime_Pa_s_per_m"),
          "stability": ("row_shift_um", "capillary_number", "cells", "steps"),

@@ -225,7 +225,8 @@ def capsule_args(problem, point):
     mesh_faces scales the icosphere (1280 faces at the DLD mesh's 2000; the nearest 20 * 4^n is
     used), reynolds is the capsule's Re = gammadot a^2 / nu (0.1 at the reference, as the
     validation), ib_kernel, force_every, spread_held, interpolation_held and collision as in a coupled run; viscosity_field_every does not
-    apply (viscosity ratio 1, as the benchmark)."""
+    apply (viscosity ratio 1, as the benchmark), nor volume_correction_every (the driver has no
+    volume correction: a point that sets it measures the coupled problems only)."""
     k = point.knobs
     a = CAPSULE_RADIUS_UM / k["dx_um"]
     return ["--ca", repr(float(problem.values["capillary_number"])), "--radius", f"{a:.6g}",

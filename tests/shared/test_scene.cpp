@@ -218,6 +218,18 @@ TEST(Scene, BadUpdateIntervalsAreNamed) {
                "expected true or false");
   expect_error(std::string(kGood) + "[coupling]\nforce_every = 5\ninterpolation_held = true\n",
                "coupling.interpolation_held", 15, "needs spread_held = true");
+  // The volume correction happens where the membrane programs are awake: at force updates.
+  expect_error(std::string(kGood) + "[coupling]\nforce_every = 5\nvolume_correction_every = 12\n",
+               "coupling.volume_correction_every", 15,
+               "expected 0 (never) or a multiple of force_every (5) up to 1000000 steps");
+  expect_error(std::string(kGood) + "[coupling]\nvolume_correction_every = -100\n",
+               "coupling.volume_correction_every", 14, "expected 0 (never) or a multiple");
+  const dld::Scene corrected = dld::parse_scene(
+      std::string(kGood) + "[coupling]\nforce_every = 5\nvolume_correction_every = 100\n",
+      "good.toml");
+  EXPECT_EQ(corrected.coupling.volume_correction_every, 100);
+  EXPECT_NE(corrected.describe().find("cell volumes restored every 100 steps"), std::string::npos);
+  EXPECT_EQ(dld::parse_scene(kGood, "good.toml").coupling.volume_correction_every, 0);
 }
 
 TEST(Scene, TablesOfOtherProgramsAreLeftToThem) {
