@@ -25,13 +25,16 @@ def number(row, key, path, line):
         sys.exit(f"plot_study.py: error: {path}:{line}: column {key}: '{row[key]}' is not a number")
 
 
-def read_rows(path):
-    """The rows of a CSV with COLUMNS, or a one-line error naming the file."""
+def read_rows(path, may_be_empty=False):
+    """The rows of a CSV with COLUMNS, or a one-line error naming the file. may_be_empty: a file
+    without rows (a sweep's summary before its first run has finished) gives none."""
     try:
         with open(path, newline="") as f:
             rows = list(csv.DictReader(f))
     except OSError as e:
         sys.exit(f"plot_study.py: error: {path}: cannot read ({e.strerror})")
+    if may_be_empty and not rows:
+        return rows
     missing = [c for c in COLUMNS if not rows or c not in rows[0]]
     if missing:
         sys.exit(f"plot_study.py: error: {path}: missing column(s) {', '.join(missing)}"
@@ -62,7 +65,7 @@ def main():
     a = ap.parse_args()
     groups = defaultdict(list)  # (d, Ca) -> [(Ht, mean, std, lambda)]
     kinds = defaultdict(set)  # (d, Ca) -> {"p_fZ", "p_fD"}
-    points(read_rows(a.csv), a.csv, groups, kinds)
+    points(read_rows(a.csv, may_be_empty=a.unfinished is not None), a.csv, groups, kinds)
     so_far = defaultdict(list)  # (d, Ca) -> [(Ht, mean, std, lambda, state, slowest pillars)]
     if a.unfinished:
         rows = read_rows(a.unfinished)

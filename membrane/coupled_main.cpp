@@ -127,7 +127,8 @@ class CoupledRun {
   const double halo_;  // contact halo width [lattice lengths], 0: none
   std::vector<double> v0_;
   std::vector<double>
-      restored_;  // each cell's volume given back ([coupling] volume_correction_every)
+      restored_;         // each cell's volume given back ([coupling] volume_correction_every)
+  std::int64_t at_ = 0;  // the step cells_'s positions are at (for an error's state_at_stop)
   coupler::MembraneSide side_;
   RunFacts facts_;
   RunCheckpoint expected_;
@@ -168,6 +169,13 @@ CoupledRun::CoupledRun(const Scene& scene, const MembraneScene& m, const Coupled
              scene.cell_um.shift, scene.name, capillary_number(scene), m.expected_mode},
       expected_{0, scene.hash, first_, cells_.cell_count(), cells_.nodes_per_cell(), {}, {}},
       width_(1 + 4 * static_cast<std::size_t>(cells_.cell_count())) {
+  // Another process's cells reach this one's contact as halos made from positions before a
+  // correction: the split run would differ from the one-process run (and a resume from both).
+  if (scene.coupling.volume_correction_every > 0 && halo_ > 0)
+    throw InputError(fmt::format(
+        "{}: [coupling] volume_correction_every: not with cells in contact across {} membrane "
+        "processes (their contact halos would miss the correction); run one membrane process",
+        scene.file, a.peers));
   // Every cell shares the reference mesh's triangles; the fluid needs them for the inside/outside
   // viscosity field (protocol v2), so they are sent once, in the hello.
   side_.set_cell_surfaces(
@@ -322,21 +330,27 @@ void CoupledRun::progress(std::int64_t step) const {
 // the dense runs (docs/results.md, "Why the dense runs go unstable late"), so the error line names
 // the cells that have them. Reads positions only.
 std::string CoupledRun::state_at_stop(std::int64_t step) {
-  if (!watch_) return "";
-  watch_->update(cells_, step, first_);  // its first-time warnings would repeat what follows
-  const int worst = watch_->worst_cell_now();
-  if (worst < 0) return "";
-  std::string below;
-  for (int k = 0; k < cells_.cell_count(); ++k)
-    if (watch_->now(k) < TriangleWatch::kSkalakPeak)
-      below += fmt::format("{}{} ({:.3f})", below.empty() ? "" : ", ", first_ + k, watch_->now(k));
-  return fmt::format(
-      "; membranes at step {}: smallest triangle {:.3f} of rest area (cell {}){}", step,
-      watch_->now(worst), first_ + worst,
-      below.empty() ? std::string()
-                    : "; cells with triangles below 1/sqrt(3) of rest area, where Skalak's area "
-                      "term weakens: " +
-                          below);
+  try {  // called in the error handlers: nothing here may replace the error it adds to
+    if (!cells_.positions().allFinite())
+      return fmt::format("; membranes at step {}: node positions not finite", step);
+    watch_->update(cells_, step, first_);  // its first-time warnings would repeat what follows
+    const int worst = watch_->worst_cell_now();
+    if (worst < 0) return "";
+    std::string below;
+    for (int k = 0; k < cells_.cell_count(); ++k)
+      if (watch_->now(k) < TriangleWatch::kSkalakPeak)
+        below +=
+            fmt::format("{}{} ({:.3f})", below.empty() ? "" : ", ", first_ + k, watch_->now(k));
+    return fmt::format("; membranes at step {}: smallest triangle {:.3f} of rest area (cell {}){}",
+                       step, watch_->now(worst), first_ + worst,
+                       below.empty()
+                           ? std::string()
+                           : "; cells with triangles below 1/sqrt(3) of rest area, where Skalak's "
+                             "area term weakens: " +
+                                 below);
+  } catch (...) {
+    return "";
+  }
 }
 
 void CoupledRun::summary() const {
@@ -424,6 +438,7 @@ std::string CoupledRun::step_loop(std::int64_t& s) {
 // What follows the steps up to e: meshes, samples with the guard and the stop rules, checkpoints
 // and the progress line, each at its own multiple.
 void CoupledRun::after_steps(std::int64_t e, std::string& stop) {
+  at_ = e;
   const std::int64_t mesh_every = scene_.output.mesh_every;
   if (mesh_every > 0 && e % mesh_every == 0) sample_mesh(e);
   if (e % a_.sample_every == 0) {
@@ -459,6 +474,7 @@ int CoupledRun::run() {
   };
   start_ = Clock::now();
   std::int64_t s = offset_;
+  at_ = offset_;
   try {
     side_.initialize(cells_.flat_positions());
     apply_halo();
@@ -493,12 +509,12 @@ int CoupledRun::run() {
     return 0;
   } catch (const coupler::CouplerError& e) {
     finish();
-    spdlog::error("{}{}", e.what(), state_at_stop(s));
+    spdlog::error("{}{}", e.what(), state_at_stop(at_));
     return 3;
   } catch (const std::exception& e) {
     side_.abort(e.what());
     finish();
-    spdlog::error("{}{}", e.what(), state_at_stop(s));
+    spdlog::error("{}{}", e.what(), state_at_stop(at_));
     return 1;
   }
 }

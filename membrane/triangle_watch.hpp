@@ -26,12 +26,17 @@ class TriangleWatch {
   std::vector<std::string> update(const CellSet& cells, std::int64_t step, int first_cell);
 
   /// Cell k's smallest J at the last update, and over every update so far (1 before any).
-  double now(int k) const { return now_[static_cast<std::size_t>(k)]; }
-  double smallest(int k) const { return smallest_[static_cast<std::size_t>(k)]; }
+  double now(int k) const { return at(now_, k); }
+  double smallest(int k) const { return at(smallest_, k); }
   /// The local index of the cell with the smallest J at the last update (-1 before any).
   int worst_cell_now() const;
 
  private:
+  // A run shorter than one sample ends with its summary before any update.
+  static double at(const std::vector<double>& v, int k) {
+    const auto i = static_cast<std::size_t>(k);
+    return i < v.size() ? v[i] : 1.0;
+  }
   std::vector<Face> faces_;
   std::vector<double> rest_area_;
   std::vector<double> now_, smallest_;

@@ -15,8 +15,8 @@
 namespace dld::membrane {
 
 /// Moves the nodes x (one cell, lattice lengths) so that the volume they enclose is v0 to
-/// round-off; returns the volume change applied relative to v0 (0 and x untouched if it is
-/// already v0).
+/// round-off (1e-13 relative); returns the volume change made, relative to v0 (0 and x untouched
+/// if it is v0 already). The centroid stays: the gradient sums to zero over a closed surface.
 double restore_volume(Eigen::Ref<Points> x, const std::vector<Face>& faces, double v0);
 
 }  // namespace dld::membrane

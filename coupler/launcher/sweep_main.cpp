@@ -116,6 +116,7 @@ int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::st
   } else {
     argv.insert(argv.end(), parts.begin(), parts.end());
   }
+  if (so_far) fs::remove_all(out);  // no earlier analysis may pass for this one
   if (argv.size() == 1) return -1;  // nothing written yet
   fs::create_directories(out);
   argv.insert(argv.end(), {"--pillars", std::to_string(study.pillars), "-o", out.string()});
@@ -206,7 +207,7 @@ std::string write_unfinished(const dld::coupler::Study& study, const std::vector
     fmt::print(stderr, "dld-sweep: dld-analyze not built: unfinished runs are not analysed\n");
     return "";
   }
-  setenv("HDF5_USE_FILE_LOCKING", "FALSE", 1);  // a running run's part files are open for writing
+  setenv("HDF5_USE_FILE_LOCKING", "FALSE", 0);  // a running run's part files are open for writing
   for (const auto& run : runs) {
     const auto state = dld::coupler::run_state(run);
     if (state != dld::coupler::RunState::kPartial && state != dld::coupler::RunState::kFailed)
@@ -322,7 +323,8 @@ class Sweep {
           std::chrono::duration<double>(std::chrono::steady_clock::now() - it->start).count();
       dld::coupler::record_attempt(*it->run, it->child.exit_code, wall);
       if (it->child.exit_code == 0) {
-        const int a = analyze_exe_.empty() ? -1 : analyze(*it->run, study_, analyze_exe_);
+        const int a = analyze_exe_.empty() ? -2 : analyze(*it->run, study_, analyze_exe_);
+        if (a == -1) fmt::print(stderr, "  {}: no run file to analyse\n", it->run->name);
         if (a > 0) {
           fmt::print(stderr, "  {}: dld-analyze failed ({}): see {}\n", it->run->name, a,
                      (it->run->dir / "analysis.txt").string());
@@ -402,6 +404,8 @@ static int run_main(int argc, char** argv) {
     const std::string resolution = o.resolution.empty() ? study.default_resolution : o.resolution;
     const auto runs = study.runs(resolution);
     const std::vector<const StudyRun*> chosen = dld::coupler::select_runs(runs, o.index, o.only);
+    if (o.unfinished && !o.summary_only)
+      throw dld::InputError("--unfinished: expected --summary too (it adds to the summary)");
     if (o.exact_coupling_for > 0 && !o.retry_failed)
       throw dld::InputError(
           "--exact-coupling-for: expected --retry-failed too (it applies to failed runs only)");
@@ -427,8 +431,6 @@ static int run_main(int argc, char** argv) {
                    progress.empty() ? "" : ": " + progress);
       }
     }
-    if (o.unfinished && !o.summary_only)
-      throw dld::InputError("--unfinished: expected --summary too (it adds to the summary)");
     if (o.summary_only) write_study_summary(study, runs, resolution, o.unfinished);
     if (o.list || o.summary_only) return 0;
 

@@ -292,6 +292,9 @@ TEST(PlotStudy, DrawsUnfinishedRunsAsFarAsTheyGotBesideTheFinishedOnes) {
       "haematocrit_percent,row_shift_um,capillary_number,p_f_mean,p_f_std,pillar_spacing_um";
   // No finished run has a failure probability yet: the unfinished ones alone make the plot.
   std::ofstream(dir + "/done.csv") << head << "\n8.0,4.4,0.2,,,32\n";
+  // Nor one that has no row at all (dld-sweep's summary before a run has finished: no columns of
+  // the analysis either).
+  std::ofstream(dir + "/none.csv") << "run,d,exact_coupling,wall_s\n";
   std::ofstream(dir + "/so-far.csv")
       << "state," << head << ",slowest_cell_pillars\nfailed,32.2,4.4,0.2,0.103,0.03,32,18.671\n"
       << "partial,45.6,6.0,1.0,0.004,0.055,32,3.26\npartial,40.2,6.0,1.0,,,32,0.4\n";
@@ -308,6 +311,10 @@ TEST(PlotStudy, DrawsUnfinishedRunsAsFarAsTheyGotBesideTheFinishedOnes) {
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("Ht 40.2"), std::string::npos) << "no failure probability, no point";
+  const Result alone =
+      run(plot + "/none.csv -o " + dir + "/alone.png --unfinished " + dir + "/so-far.csv", dir);
+  ASSERT_EQ(alone.status, 0) << alone.output;
+  EXPECT_NE(alone.output.find("Ht 32.2 %: 0.1030"), std::string::npos) << alone.output;
   std::ofstream(dir + "/stateless.csv") << head << "\n32.2,4.4,0.2,0.1,0.03,32\n";
   const Result bad =
       run(plot + "/done.csv -o " + dir + "/bad.png --unfinished " + dir + "/stateless.csv", dir);

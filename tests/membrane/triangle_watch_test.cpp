@@ -17,6 +17,9 @@ TEST(TriangleWatch, ACellSqueezedPastSkalaksPeakIsNamedOnceAndItsSmallestKept) {
   cells.add_cell(Eigen::Vector3d(10.0, 70.0, 6.0));
   TriangleWatch watch(ref);
   EXPECT_EQ(watch.worst_cell_now(), -1);
+  // Before any update (a run shorter than one sample ends with its summary): 1, as at rest.
+  EXPECT_EQ(watch.now(1), 1.0);
+  EXPECT_EQ(watch.smallest(1), 1.0);
   EXPECT_TRUE(watch.update(cells, 100, 5).empty());
   EXPECT_NEAR(watch.now(0), 1.0, 1e-12);
   EXPECT_NEAR(watch.now(1), 1.0, 1e-12);

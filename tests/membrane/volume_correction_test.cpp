@@ -28,6 +28,7 @@ TEST(VolumeCorrection, ALostVolumeComesBackToRoundOffByTheSmallestDisplacement) 
   const double given = restore_volume(x, ref.faces, v0);
   EXPECT_NEAR(given, lost, 1e-12);
   EXPECT_NEAR(volume(x) / v0, 1.0, 1e-12);
+  EXPECT_LT((x.rowwise().mean() - before.rowwise().mean()).norm(), 1e-9) << "the centroid stays";
   // Along the gradient: node displacements of the order of lost V / area, none much larger.
   const double scale = lost * v0 / surface_area(ref, before);
   const Eigen::VectorXd moved = (x - before).colwise().norm();
