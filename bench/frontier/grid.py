@@ -23,6 +23,8 @@ KNOBS = {
     "spread_held": ("coupling.spread_held", lambda v: isinstance(v, bool), "true or false"),
     "interpolation_held": ("coupling.interpolation_held", lambda v: isinstance(v, bool),
                            "true or false (true needs spread_held = true)"),
+    "wall_rule": ("lattice.wall_rule", lambda v: v in ("bounce_back", "bouzidi"),
+                  '"bounce_back" or "bouzidi"'),
     "volume_correction_every": ("coupling.volume_correction_every",
                                 lambda v: _int(v) and 0 <= v <= 1000000,
                                 "steps 0..1000000 (0: never; a multiple of force_every)"),
@@ -30,7 +32,7 @@ KNOBS = {
 # Knobs a grid may leave out of [reference]: their value where no point names them (a grid made
 # before the knob existed keeps its runs: scenes name such a knob only where a point changes it).
 KNOB_DEFAULTS = {"collision": "trt", "spread_held": False, "interpolation_held": False,
-                 "volume_correction_every": 0}
+                 "volume_correction_every": 0, "wall_rule": "bounce_back"}
 KINDS = {"dilute": ("row_shift_um", "capillary_number", "columns"),
          "dense": ("row_shift_um", "capillary_number", "cells", "t_pprime_Pa_s_per_m"),
          "stability": ("row_shift_um", "capillary_number", "cells", "steps"),

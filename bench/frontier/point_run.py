@@ -226,7 +226,8 @@ def capsule_args(problem, point):
     used), reynolds is the capsule's Re = gammadot a^2 / nu (0.1 at the reference, as the
     validation), ib_kernel, force_every, spread_held, interpolation_held and collision as in a coupled run; viscosity_field_every does not
     apply (viscosity ratio 1, as the benchmark), nor volume_correction_every (the driver has no
-    volume correction: a point that sets it measures the coupled problems only)."""
+    volume correction) nor wall_rule (a shear box has no pillar): a point that sets these
+    measures the coupled problems only."""
     k = point.knobs
     a = CAPSULE_RADIUS_UM / k["dx_um"]
     return ["--ca", repr(float(problem.values["capillary_number"])), "--radius", f"{a:.6g}",
