@@ -342,11 +342,18 @@ fs::path so_far_dir(const StudyRun& run) {
   return run.dir / "so-far";
 }
 
-std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
-                          const std::string& resolution) {
+namespace {
+/// <output>/<resolution>/<name>, its folder made.
+fs::path summary_file(const Study& study, const std::string& resolution, const char* name) {
   const fs::path dir = study.output / (resolution.empty() ? std::string("default") : resolution);
   fs::create_directories(dir);
-  const fs::path csv = dir / "summary.csv";
+  return dir / name;
+}
+}  // namespace
+
+std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
+                          const std::string& resolution) {
+  const fs::path csv = summary_file(study, resolution, "summary.csv");
   int missing = 0;
   const SummaryTable t = summary_table(study, runs, false, missing);
   write_table(csv, t);
@@ -358,9 +365,7 @@ std::string write_summary(const Study& study, const std::vector<StudyRun>& runs,
 
 std::string write_unfinished_summary(const Study& study, const std::vector<StudyRun>& runs,
                                      const std::string& resolution) {
-  const fs::path dir = study.output / (resolution.empty() ? std::string("default") : resolution);
-  fs::create_directories(dir);
-  const fs::path csv = dir / "summary-unfinished.csv";
+  const fs::path csv = summary_file(study, resolution, "summary-unfinished.csv");
   int missing = 0;
   const SummaryTable t = summary_table(study, runs, true, missing);
   if (t.rows.empty()) {

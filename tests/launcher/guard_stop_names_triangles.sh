@@ -4,50 +4,17 @@
 # area ratio and its cell (collapsed triangles came before every late stop of the dense runs,
 # docs/results.md), at the run's step. A cell 400 times too stiff for the lattice (Ca 0.0005 at
 # dx 0.8 um) makes the guard fire within a few steps; its triangles are still near rest.
-# Usage: guard_stop_names_triangles.sh DLD_RUN
+# Usage: guard_stop_names_triangles.sh DLD_RUN PROJECT_SOURCE_DIR
 set -euo pipefail
-run=$1
+run=$1 src=$2
 dir=$(mktemp -d /tmp/dld-guard-stop.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-cat > "$dir/scene.toml" <<TOML
-[scene]
-name = "too-stiff"
-[geometry]
-pillar_radius_um = 10.0
-pillar_spacing_um = 32.0
-depth_um = 4.8
-row_shift_um = 4.4
-[lattice]
-dx_um = 0.8
-[drive]
-reynolds = 1.0
-[run]
-threads = 1
-[output]
-fields = false
-file = "$dir/run.h5"
-[coupling]
-timeout_s = 20
-[membrane]
-radius_um = 3.9
-mesh_faces = 500
-models = ["skalak", "bending", "volume"]
-capillary_number = 0.0005
-mesh_cache = "$dir/meshes"
-[membrane.skalak]
-area_modulus_ref_lu = 0.5
-[membrane.bending]
-modulus_rel = 2.5e-3
-[membrane.volume]
-modulus_rel = 100.0
-[membrane.contact]
-range_um = 0.8
-strength_rel = 1.0
-[[cells.cell]]
-centre_um = [3.0, 3.0, 2.4]
-TOML
+# The project's single-cell scene (dx 0.8 um), run from the source tree, with the stiff cell.
+sed -e "s|^file = .*|file = \"$dir/run.h5\"|" -e 's/^capillary_number = .*/capillary_number = 0.0005/' \
+    -e 's/^reynolds = .*/reynolds = 1.0/' "$src/configs/single-cell.toml" > "$dir/scene.toml"
+grep -q "^capillary_number = 0.0005" "$dir/scene.toml" || { echo "FAIL: scene"; exit 1; }
 set +e
-timeout 120 "$run" "$dir/scene.toml" --membrane cells --steps 2000 > "$dir/out.txt" 2>&1
+(cd "$src" && timeout 120 "$run" "$dir/scene.toml" --membrane cells --steps 2000) > "$dir/out.txt" 2>&1
 code=$?
 set -e
 [ "$code" -ne 0 ] && [ "$code" -ne 124 ] || { cat "$dir/out.txt"; echo "FAIL: exit $code"; exit 1; }
