@@ -382,9 +382,11 @@ std::int64_t CoupledRun::held_steps(std::int64_t s) const {
   const auto up_to_next = [&](std::int64_t every) {
     if (every > 0) next = std::min(next, (s / every + 1) * every);
   };
+  // [coupling] volume_correction_every is a multiple of force_every (shared/scene.cpp): no wake-up
+  // of its own.
   for (const std::int64_t every : std::initializer_list<std::int64_t>{
            scene_.coupling.force_every, a_.sample_every, scene_.output.mesh_every,
-           scene_.coupling.volume_correction_every, a_.checkpoint_every, scene_.run.log_every})
+           a_.checkpoint_every, scene_.run.log_every})
     up_to_next(every);
   return next - s;
 }
