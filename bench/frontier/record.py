@@ -13,6 +13,8 @@ import json
 import math
 import os
 
+from grid import KNOB_DEFAULTS
+
 KEY_COLUMNS = ["problem", "point", "knobs", "values", "source"]
 KEPT = ("ok", "unstable", "failed", "refused")  # results a run keeps (not pending/interrupted)
 
@@ -48,10 +50,17 @@ def read(path):
     return kept
 
 
+def _recorded_knobs(text):
+    """A row's knobs with the defaults of knobs added since it was written: the row stands for the
+    point it was run as (a knob new to the grid had its default value then)."""
+    return {**KNOB_DEFAULTS, **json.loads(text)}
+
+
 def lookup(kept, problem, point):
     """The recorded result of this point, if it was made with its present knobs and problem."""
     entry = kept.get((problem.name, point.name))
-    if entry is None or (entry[0], entry[1]) != _match(problem, point):
+    if entry is None or entry[1] != _match(problem, point)[1] \
+            or _recorded_knobs(entry[0]) != point.knobs:
         return None
     return {**entry[3], "restored": entry[2]}
 

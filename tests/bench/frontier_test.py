@@ -4,8 +4,10 @@
 against itself are zero, a held-update point has a finite error, a point beyond the stability
 limit is a row "unstable at step N", the plots are PNGs); bad grids stop with one line naming the
 key; a run stopped by a signal is not kept as a failure; on a machine without the run folders the
-record beside the report gives the same rows, but not for a point whose knobs changed.
+record beside the report gives the same rows, but not for a point whose knobs changed; the
+committed record of the full grid restores every point it holds.
 Usage: frontier_test.py SOURCE_DIR"""
+import csv
 import os
 import re
 import shutil
@@ -87,6 +89,27 @@ class QuickGrid(unittest.TestCase):
                         self.assertEqual(new["held2"], old["held2"], problem)
                     else:  # force_every 3 is not the point that was run
                         self.assertEqual(new["held2"][2], "not run", problem)
+
+
+class CommittedRecord(unittest.TestCase):
+    def test_restores_every_recorded_point_of_the_full_grid(self):
+        """docs/frontier/full-results.csv stands for its points after knobs were added to the grid
+        (their defaults are what those points ran with): no recorded point reports "not run"."""
+        with tempfile.TemporaryDirectory() as d:
+            record = os.path.join(d, "full-results.csv")
+            shutil.copy(os.path.join(SOURCE, "docs/frontier/full-results.csv"), record)
+            with open(record, newline="") as f:
+                recorded = [(r["problem"], r["point"]) for r in csv.DictReader(f)]
+            r = frontier("--grid", os.path.join(SOURCE, "configs/frontier/full.toml"), "--out",
+                         os.path.join(d, "runs"), "--report-only", "--report",
+                         os.path.join(d, "frontier.md"), "--figures", d, "--record", record)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            with open(os.path.join(d, "frontier.md")) as f:
+                report = f.read()
+            self.assertGreater(len(recorded), 60)
+            for problem, point in recorded:
+                status = rows(report, problem)[point][2]
+                self.assertNotEqual(status, "not run", (problem, point))
 
 
 GOOD = """
