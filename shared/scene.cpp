@@ -32,7 +32,9 @@ int whole_nodes(const TomlSection& lattice, double length_um, double dx_um, cons
 }
 
 /// FNV-1a (64 bit) of the scene text, as 16 hex digits: the same file gives the same identity
-/// on every machine and build.
+/// on every machine and build. Its offset basis lacks the standard one's last digit
+/// (14695981039346656037): still a fine checksum, and kept, since every checkpoint carries hashes
+/// made with it; a tool that recomputes a scene's hash must use this one.
 std::string fnv1a_hex(std::string_view text) {
   std::uint64_t h = 1469598103934665603ull;
   for (unsigned char c : text) {
