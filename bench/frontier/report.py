@@ -216,6 +216,41 @@ def choose(grid, results):
     return best
 
 
+def wall_for_wall(grid, results):
+    """Table lines: each point whose pillar wall rule is not the reference's, against the point
+    that is the reference but for that wall (where the grid has it and it ran). The main tables
+    hold the wall's own error at the finest point in every such point's error; this one tells the
+    setting's other numerics apart from it."""
+    ref = grid.reference.knobs
+    lines = []
+    for prob in grid.problems:
+        if prob.kind == "stability":
+            continue
+        for wall_ref in (p for p in grid.points
+                         if p.knobs["wall_rule"] != ref["wall_rule"]
+                         and p.knobs == {**ref, "wall_rule": p.knobs["wall_rule"]}):
+            base = results[(prob.name, wall_ref.name)]
+            for p in grid.points:
+                if p is wall_ref or p.knobs["wall_rule"] != wall_ref.knobs["wall_rule"]:
+                    continue
+                r = results[(prob.name, p.name)]
+                e = error(prob, r, base)
+                if math.isnan(e):
+                    continue
+                same = prob.kind != "dilute" or mode_word(r) == mode_word(base)
+                within = e <= TOLERANCE[prob.kind] and same
+                lines.append(f"| {prob.name} | {p.name} | {wall_ref.name} | {e:.3g} | "
+                             f"{mode_word(r) if prob.kind == 'dilute' else '-'} | "
+                             f"{'yes' if within else 'no'} |")
+    if not lines:
+        return []
+    return ["## Wall for wall", "",
+            "Points with another pillar wall rule than the reference's, against the reference with "
+            "that wall (same metrics and tolerances as above):", "",
+            "| problem | setting | against | error | mode | within tolerance |",
+            "|---|---|---|---:|---|---|", *lines, ""]
+
+
 def write(grid, results, doc_path, fig_dir, header):
     os.makedirs(fig_dir, exist_ok=True)
     lines = [f"# Speed against error: {grid.title}", "", *header, "", *GUIDE, ""]
@@ -233,6 +268,7 @@ def write(grid, results, doc_path, fig_dir, header):
             f.write("\n".join(lines) + "\n")
         return None
     best = choose(grid, results)
+    lines += wall_for_wall(grid, results)
     lines += ["## The cheapest setting within tolerance", "",
               f"Tolerances: dilute shift within {TOLERANCE['dilute']:.0%} of d and the same mode; "
               f"dense mobility within {TOLERANCE['dense']:.0%} of the reference.", ""]

@@ -5,7 +5,8 @@ against itself are zero, a held-update point has a finite error, a point beyond 
 limit is a row "unstable at step N", the plots are PNGs); bad grids stop with one line naming the
 key; a run stopped by a signal is not kept as a failure; on a machine without the run folders the
 record beside the report gives the same rows, but not for a point whose knobs changed; the
-committed record of the full grid restores every point it holds.
+committed record of the full grid restores every point it holds; a point with another pillar
+wall than the reference's is also measured against the reference with its wall.
 Usage: frontier_test.py SOURCE_DIR"""
 import csv
 import os
@@ -137,6 +138,35 @@ class StoppedRuns(unittest.TestCase):
         import point_run
         for code, stopped in ((-2, True), (-9, True), (130, True), (0, False), (1, False), (2, False)):
             self.assertEqual(point_run._interrupted(code), stopped, code)
+
+
+class WallForWall(unittest.TestCase):
+    def test_a_point_with_another_wall_is_measured_against_the_reference_of_that_wall(self):
+        sys.path.insert(0, os.path.join(SOURCE, "bench/frontier"))
+        import grid
+        import report
+        points = ('[[point]]\nname = "ref-bz"\nwall_rule = "bouzidi"\n'
+                  '[[point]]\nname = "fast-bz"\nreynolds = 0.5\nwall_rule = "bouzidi"\n'
+                  '[[point]]\nname = "fast"\nreynolds = 0.5\n')
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "grid.toml")
+            with open(path, "w") as f:
+                f.write(GOOD + points)
+            g = grid.load(path)
+
+        def run(shift, mode):
+            return {"status": "ok", "shift_per_column_um": shift, "row_shift_um": 6.0, "mode": mode}
+        results = {("dilute", "reference"): run(6.0, "displacement"),
+                   ("dilute", "ref-bz"): run(1.0, "mixed"),
+                   ("dilute", "fast-bz"): run(1.12, "mixed"),
+                   ("dilute", "fast"): run(5.9, "displacement")}
+        table = [line for line in report.wall_for_wall(g, results) if line.startswith("| dilute")]
+        # Only fast-bz, against ref-bz: 0.12 / 6 = 0.02 of d, the same mode, within 3 %.
+        self.assertEqual(table, ["| dilute | fast-bz | ref-bz | 0.02 | mixed | yes |"])
+        results[("dilute", "fast-bz")] = run(1.12, "zigzag")  # the mode lost: not within
+        self.assertTrue(report.wall_for_wall(g, results)[-2].endswith("| no |"))
+        results[("dilute", "ref-bz")] = {"status": "not run"}  # nothing to compare with
+        self.assertEqual(report.wall_for_wall(g, results), [])
 
 
 class BadGrid(unittest.TestCase):
