@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Issue 16: a new machine has an empty runs/ folder; scripts/restore-finished-runs marks the runs
 # that finished elsewhere as done from the committed summary (docs/results/headline/summary.csv),
-# so dld-sweep neither reruns them nor leaves them out: --list shows them done and --summary
+# so dld-sweep neither reruns them nor leaves them out (the headline's study file at `fast`, the
+# setting those runs were made at): --list shows them done and --summary
 # writes the committed summary byte for byte (with a run's exact-coupling stretches, which --list
 # shows too). A run folder that holds a checkpoint is left alone,
 # and a file that is no sweep summary is refused with one line naming it.
@@ -14,6 +15,7 @@ study=$src/configs/study
 sed -e "s|^scene = .*|scene = \"$study/base.toml\"|" -e "s|^output = .*|output = \"$dir/runs\"|" \
     -e "s|^modes = .*|modes = \"$study/dilute_modes_fast.toml\"|" \
     -e "s|^resolutions = .*|resolutions = \"$study/resolutions.toml\"|" \
+    -e "s|^default_resolution = .*|default_resolution = \"fast\"|" \
     "$study/headline.toml" > "$dir/headline.toml"
 # The committed summary, with exact-coupling stretches (dld-run --exact-coupling-for) given to its
 # first run: they must come back in the restored run's summary row.

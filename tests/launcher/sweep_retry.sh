@@ -37,6 +37,7 @@ case_study() {  # case_study NAME: the headline's study file writing under $dir/
   sed -e "s|^scene = .*|scene = \"$study/base.toml\"|" -e "s|^output = .*|output = \"$dir/$1\"|" \
     -e "s|^modes = .*|modes = \"$study/dilute_modes_fast.toml\"|" \
     -e "s|^resolutions = .*|resolutions = \"$study/resolutions.toml\"|" \
+    -e "s|^default_resolution = .*|default_resolution = \"fast\"|" \
     "$study/headline.toml" > "$dir/$1.toml"
   echo "$dir/$1.toml"
 }
