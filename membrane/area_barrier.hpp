@@ -2,8 +2,8 @@
 // Area barrier per triangle: keeps resisting where Skalak's area term gives way. Skalak's area
 // energy (kappa_alpha/12)(J^2 - 1)^2, J = A/A_rest, resists compression with a tension
 // ~ J (1 - J^2) that peaks at J = 1/sqrt(3) and vanishes as J -> 0, so a triangle compressed past
-// there collapses (docs/results.md, "Why the dense runs go unstable late"). This term adds, per
-// reference area,
+// there collapses (docs/results-history.md, "Why the dense runs go unstable late"). This term adds,
+// per reference area,
 //   w(J) = (kappa_b/2) (J_b - J)^2 for J < J_b, 0 otherwise,
 // which is zero (with its force) for every triangle at J >= J_b: a cell whose triangles all stay
 // there moves exactly as without it. Skalak's isotropic area energy has d2w/dJ2 = kappa_alpha

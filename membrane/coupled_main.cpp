@@ -327,8 +327,8 @@ void CoupledRun::progress(std::int64_t step) const {
 }
 
 // The membranes when a run stops on an error: collapsed triangles came before every late stop of
-// the dense runs (docs/results.md, "Why the dense runs go unstable late"), so the error line names
-// the cells that have them. Reads positions only.
+// the dense runs (docs/results-history.md, "Why the dense runs go unstable late"), so the error
+// line names the cells that have them. Reads positions only.
 std::string CoupledRun::state_at_stop(std::int64_t step) {
   try {  // called in the error handlers: nothing here may replace the error it adds to
     if (!cells_.positions().allFinite())

@@ -41,7 +41,7 @@ std::vector<std::string> TriangleWatch::update(const CellSet& cells, std::int64_
       warnings.push_back(fmt::format(
           "cell {} triangle {} is compressed to {:.2f} of its rest area at step {}: below "
           "1/sqrt(3), where Skalak's area term gives way (collapsed triangles, in the film against "
-          "the pillar or a wall, came before the dense runs' late stops: docs/results.md)",
+          "the pillar or a wall, came before the dense runs' late stops: docs/results-history.md)",
           first_cell + static_cast<int>(k), worst, least, step));
     }
   }

@@ -2,9 +2,9 @@
 // Watches each cell's smallest triangle area ratio J = A/A_rest over a run. Skalak's area term
 // resists compression less and less below J = 1/sqrt(3) and not at all as J -> 0; in the dense
 // runs triangles in the film against the pillar and the walls collapsed there before the run went
-// unstable (docs/results.md, "Why the dense runs go unstable late"), so a cell passing below it is
-// worth a warning, and the progress lines and the summary show the smallest J. Reads positions
-// only: the physics is unchanged.
+// unstable (docs/results-history.md, "Why the dense runs go unstable late"), so a cell passing
+// below it is worth a warning, and the progress lines and the summary show the smallest J. Reads
+// positions only: the physics is unchanged.
 #pragma once
 #include <cstdint>
 #include <string>

@@ -5,8 +5,8 @@
 // projects bond constraints: Ryckaert, Ciccotti & Berendsen, J. Comput. Phys. 23 (1977) 327).
 // Numerics, not physics: the immersed boundary's interpolated velocity is not exactly
 // divergence-free across a membrane, so a cell held under load loses volume that a real membrane
-// keeps (docs/results.md, "Volume loss"); [coupling] volume_correction_every sets how often this
-// gives it back (0: never, the default).
+// keeps (docs/results-history.md, "Volume loss"); [coupling] volume_correction_every sets how often
+// this gives it back (0: never, the default).
 #pragma once
 #include <vector>
 

@@ -2,7 +2,7 @@
 # A coupled run that the fluid's stability guard stops: the membrane program's error line (which
 # dld-run and dld-sweep pass on) ends with the membranes' state at the stop, the smallest triangle
 # area ratio and its cell (collapsed triangles came before every late stop of the dense runs,
-# docs/results.md), at the run's step. A cell 400 times too stiff for the lattice (Ca 0.0005 at
+# docs/results-history.md), at the run's step. A cell 400 times too stiff for the lattice (Ca 0.0005 at
 # dx 0.8 um) makes the guard fire within a few steps; its triangles are still near rest.
 # Usage: guard_stop_names_triangles.sh DLD_RUN PROJECT_SOURCE_DIR
 set -euo pipefail
