@@ -8,12 +8,13 @@ Reads /membrane/positions (nodes, cell after cell; lattice units) of a dld-membr
 the cell radius; R = the radius in lattice spacings, e.g. 9.75 for 3.9 um at dx 0.4 um, as the
 membrane log prints it). For each cell: the smallest and largest triangle angle [deg], the
 smallest area ratio J = A / A_rest, and how many triangles have J below --collapsed (default 0.2).
-Skalak's area term resists a compressed triangle less and less below J = 1/sqrt(3) (docs/results-history.md,
-"Why the dense runs go unstable late"), so collapsed triangles warn that a run is near a stop.
+Skalak's area term resists a compressed triangle less and less below J = 1/sqrt(3)
+(docs/results-history.md, "Why the dense runs go unstable late"), so collapsed triangles warn
+that a run is near a stop.
 With --scene (the run's scene.toml: [geometry] and [lattice] dx_um), also where they are: how
 many collapsed triangles lie within --film lattice spacings (default 2) of the pillar's surface or
-a wall, against that share of all triangles (they collapse in the film there: docs/results-history.md,
-"Where the triangles collapse").
+a wall, against that share of all triangles (they collapse in the film there:
+docs/results-history.md, "Where the triangles collapse").
 Exit code 0; one line naming the file for input it cannot read.
 """
 import argparse
