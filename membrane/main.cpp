@@ -166,6 +166,9 @@ static int run_main(int argc, char** argv) {
   app.add_flag("--check", check,
                "validate the scene's membrane part (and make its mesh), print it, and exit");
   app.add_flag("-v,--verbose", verbose, "debug logging");
+  int threads = 0;
+  app.add_option("--threads", threads, "coupled mode: OpenMP threads (overrides run.threads)")
+      ->check(CLI::Range(1, 1024));
   bool exact_coupling = false;
   app.add_flag("--exact-coupling", exact_coupling,
                "coupled mode: forces every step, whatever the scene's [coupling] holds (dld-run "
@@ -187,7 +190,8 @@ static int run_main(int argc, char** argv) {
     if (!coupled.endpoint.empty()) {
       // A coupled run's programs take turns on the same cores: both honour [run] threads, so
       // that runs side by side (dld-sweep --jobs) do not oversubscribe them.
-      if (scene.run.threads > 0) omp_set_num_threads(scene.run.threads);
+      const int t = threads > 0 ? threads : scene.run.threads;
+      if (t > 0) omp_set_num_threads(t);
       spdlog::info("{} OpenMP threads", omp_get_max_threads());
       if (coupled.peer >= coupled.peers)
         throw dld::InputError(

@@ -87,6 +87,7 @@ struct Options {
   bool exchange_every_step = false;  ///< dld-membrane --exchange-every-step
   int pillars = 0;
   int membrane_processes = 0;      ///< 0: the scene's [coupling] membrane_processes
+  int threads = 0;                 ///< each program's OpenMP threads; 0: the scene's [run] threads
   std::vector<std::string> hosts;  ///< membrane processes' hosts (placement.hpp)
   std::string fluid_host, start_with;
   int port = 0;  ///< the fluid's tcp port; 0: one from the launcher's process id
@@ -123,6 +124,10 @@ void add_options(CLI::App& app, Options& o) {
                  "membrane processes to split the cells among (default: the scene's [coupling] "
                  "membrane_processes); a run resumes with any number of them")
       ->check(CLI::Range(1, 64));
+  app.add_option("--threads", o.threads,
+                 "OpenMP threads of the fluid and of each membrane process (default: the scene's "
+                 "[run] threads; changes the round-off only, so a run resumes with any number)")
+      ->check(CLI::Range(1, 1024));
   app.add_option("--exact-coupling-for", o.exact_coupling_for,
                  "cells: run the first STEPS steps (up to the next step a held run resumes "
                  "exactly at) with forces, viscosity field and spreading every step, then the "
@@ -266,6 +271,7 @@ std::vector<std::string> membrane_command(const Options& o, const RunPaths& p,
   if (o.until_certain) c.push_back("--until-mode-certain");
   if (o.exchange_every_step) c.push_back("--exchange-every-step");
   if (o.exact_coupling) c.push_back("--exact-coupling");
+  if (o.threads > 0) c.insert(c.end(), {"--threads", std::to_string(o.threads)});
   c.insert(c.end(), {"--checkpoint", cell_checkpoint(p.stem, k), "--checkpoint-every",
                      std::to_string(o.checkpoint_every)});
   if (o.resume) {
@@ -286,6 +292,7 @@ std::vector<std::vector<std::string>> program_commands(const Options& o, const d
   commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), p.scene, "--serve",
                       p.serve, "--peers", std::to_string(peers), "--cells", std::to_string(cells),
                       "-o", p.stem + "-fluid.h5"});
+  if (o.threads > 0) commands[0].insert(commands[0].end(), {"--threads", std::to_string(o.threads)});
   if (o.with_cells()) {
     commands[0].insert(commands[0].end(),
                        {"--checkpoint", fluid_checkpoint(p.stem), "--checkpoint-every",

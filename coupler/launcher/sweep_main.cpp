@@ -129,11 +129,14 @@ int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::st
 
 /// Runs side by side, one thread each, give more steps per second in all than one run on every
 /// core (2-core machine, 2026-12-01: 17 cells 1.17-1.19x, 3 cells 1.34-1.40x; docs/performance.md):
-/// as many runs at a time as the cores hold at the runs' [run] threads (0 = every core: one).
-int default_jobs(const std::deque<const StudyRun*>& queue) {
+/// as many runs at a time as the cores hold at --threads or the runs' [run] threads (0 = every
+/// core: one).
+int default_jobs(const std::deque<const StudyRun*>& queue, int threads_option) {
   const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (queue.empty()) return 1;
-  const auto t = queue.front()->scene["run"]["threads"].value_or(std::int64_t{0});
+  const auto t = threads_option > 0
+                     ? std::int64_t{threads_option}
+                     : queue.front()->scene["run"]["threads"].value_or(std::int64_t{0});
   const int threads = t > 0 ? static_cast<int>(t) : cores;
   return std::clamp(cores / threads, 1, static_cast<int>(queue.size()));
 }
@@ -141,6 +144,7 @@ int default_jobs(const std::deque<const StudyRun*>& queue) {
 struct Options {
   std::string study_path, resolution, slurm;
   int jobs = 0, index = -1;          // jobs 0: one run per core, see default_jobs
+  int threads = 0;                   ///< each run's program threads (dld-run --threads); 0: scene's
   dld::coupler::SlurmLayout layout;  ///< --membrane-nodes, --membrane-processes
   std::vector<std::string> hosts;
   std::vector<std::string> only;
@@ -180,6 +184,10 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--membrane-processes", o.layout.membrane_processes,
                  "each run's membrane processes (dld-run --membrane-processes)")
       ->check(CLI::Range(1, 64));
+  app.add_option("--threads", o.threads,
+                 "each run's OpenMP threads per program (dld-run --threads; default: the "
+                 "setting's [run] threads; round-off only)")
+      ->check(CLI::Range(1, 1024));
   app.add_option("--hosts", o.hosts, "each run's membrane hosts, comma-separated (dld-run --hosts)")
       ->delimiter(',');
   app.add_option("--membrane-nodes", o.layout.membrane_nodes,
@@ -192,6 +200,7 @@ std::vector<std::string> placement_args(const Options& o) {
   std::vector<std::string> a;
   if (o.layout.membrane_processes > 0)
     a.insert(a.end(), {"--membrane-processes", std::to_string(o.layout.membrane_processes)});
+  if (o.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.threads)});
   if (!o.hosts.empty()) a.insert(a.end(), {"--hosts", fmt::format("{}", fmt::join(o.hosts, ","))});
   return a;
 }
@@ -438,7 +447,7 @@ static int run_main(int argc, char** argv) {
     const std::vector<const StudyRun*> to_do =
         dld::coupler::runs_to_do(chosen, done_before, failed_before, o.retry_failed);
     std::deque<const StudyRun*> queue(to_do.begin(), to_do.end());
-    const int jobs = o.jobs == 0 ? default_jobs(queue) : o.jobs;
+    const int jobs = o.jobs == 0 ? default_jobs(queue, o.threads) : o.jobs;
     fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time{}\n",
                study.name, resolution.empty() ? "default resolution" : resolution, chosen.size(),
                done_before, queue.size(), jobs,

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# dld-run --threads: each program runs on the threads asked for, whatever the scene's [run]
+# threads (1 in configs/single-cell.toml), and a run resumes with another number of them. The
+# four touching cells of split_equality.sh run STEPS/2 steps with --threads 2 and resume to STEPS
+# with --threads 1 (the scene file unchanged, so its hash still matches the checkpoints). Threads change the order of
+# some sums only, so the final node positions must match one straight run at the scene's threads
+# to within round-off (ROUND_OFF lattice lengths; the headline's 15 cells after 500 steps: 4e-13).
+# Usage: resume_threads.sh DLD_RUN PROJECT_SOURCE_DIR [STEPS]
+set -euo pipefail
+run=$1 src=$2 steps=${3:-1000}
+round_off=1e-10
+dir=$(mktemp -d /tmp/dld-resume-threads.XXXXXX)
+trap 'rm -rf "$dir"' EXIT
+. "$(dirname "$0")/netns.sh"  # touching_cells_scene
+leg() {  # NAME STEPS ARGS...: one leg of a run, its output shown if it fails
+  local name=$1 n=$2
+  shift 2
+  (cd "$src" && "$run" "$dir/$name/scene.toml" --membrane cells --steps "$n" \
+      --checkpoint-every 250 "$@" > "$dir/$name/out-$n.txt" 2>&1) ||
+    { echo "$name to step $n ($*) failed:"; cat "$dir/$name/out-$n.txt"; exit 1; }
+}
+threads_said() {  # NAME: the OpenMP threads each program's log names, one line
+  cat "$dir/$1/run-fluid.log" "$dir/$1/run-cells-0.log" | grep -o "[0-9]* OpenMP threads" |
+    tr '\n' ' '
+}
+for name in straight resumed; do
+  mkdir -p "$dir/$name"
+  touching_cells_scene "$name" 1 60.0 > "$dir/$name/scene.toml"
+done
+leg straight "$steps"
+leg resumed $((steps / 2)) --threads 2
+said=$(threads_said resumed)
+[ "$said" = "2 OpenMP threads 2 OpenMP threads " ] ||
+  { echo "--threads 2: the programs said '$said'"; exit 1; }
+leg resumed "$steps" --resume --threads 1
+grep -q "resuming at step $((steps / 2))" "$dir/resumed/out-$steps.txt" ||
+  { echo "--threads 1 did not resume at step $((steps / 2))"; cat "$dir/resumed/out-$steps.txt"; exit 1; }
+/usr/bin/python3 - "$dir" "$steps" "$round_off" <<'PY'
+import sys
+import h5py, numpy as np
+d, steps, bound = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
+def final(name):
+    with h5py.File(f"{d}/{name}/run-cells-0.ckpt.h5") as f:
+        return int(f["membrane"].attrs["step"]), np.asarray(f["membrane/positions"])
+(s_ref, x_ref), (s, x) = final("straight"), final("resumed")
+diff = float(np.max(np.abs(x - x_ref)))
+print(f"steps: straight {s_ref}, resumed {s}; largest node position difference {diff:.3g} "
+      f"lattice lengths (bound {bound:g})")
+sys.exit(0 if s == s_ref == steps and diff <= bound else 1)
+PY
