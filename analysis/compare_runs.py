@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Two runs of the same cells side by side: how far their cells got at the same physical time.
 
-    analysis/compare_runs.py A=run.h5 B=run.h5 [--times N] [--csv out.csv]
+    analysis/compare_runs.py A=run.h5 B=run.h5 [--times N] [--by time|advance] [--csv out.csv]
+                             [--plot trajectories.png]
 
 For runs that start from the same packed cells under two numerical settings (a wall rule, a time
 step, a coupling): at N physical times spread over the span both runs have sampled, the mean
@@ -11,6 +12,14 @@ sample]. Runs at different time steps are compared at the same time (each run's 
 interpolated linearly). Runs whose cells start elsewhere are compared all the same, with a warning:
 then it is two suspensions, not two settings. Reads /membrane-k/cells/samples of a run file, or
 /cells/samples of a membrane part file (run-cells-k.h5), and their dt_s attribute.
+
+--by advance compares at the same downstream advance instead, for settings whose flows differ in
+physical speed (a Reynolds number raised at the same capillary number runs the same device faster):
+at N advances up to the distance every cell of both runs has travelled, each cell's lateral
+position where it has advanced that far (its own track), the mean lateral advance of each run, the
+largest difference between a cell's two lateral positions [um], the physical times each run took
+to get there (mean advance), and each run's largest volume loss by then. --plot draws every
+cell's track (lateral against downstream advance) of both runs over the same span.
 """
 import argparse
 import sys
@@ -70,12 +79,89 @@ def compare(a, b, times):
     return rows
 
 
+def monotone(x):
+    """x made non-decreasing (a cell may step back a little at a pillar): a track to interpolate
+    over."""
+    return np.maximum.accumulate(x)
+
+
+def common_advance(a, b):
+    """The downstream distance [um] every cell of both runs has travelled."""
+    return min(float((monotone(c[:, :, 0] - c[0, :, 0]))[-1].min()) for _, _, c in (a, b))
+
+
+def compare_by_advance(a, b, times):
+    """Rows (advance_um, time_a_ms, time_b_ms, step_a, step_b, lateral_a, lateral_b,
+    largest_lateral_difference, volume_loss_a, volume_loss_b) at `times` advances."""
+    span = common_advance(a, b)
+    rows = []
+    for s in np.linspace(0, span, times + 1)[1:]:
+        lat, when, loss = [], [], []
+        for t, step, c in (a, b):
+            x = monotone(c[:, :, 0] - c[0, :, 0])
+            y = [np.interp(s, x[:, k], c[:, k, 1] - c[0, k, 1]) for k in range(c.shape[1])]
+            lat.append(np.array(y))
+            mean_t = np.interp(s, monotone(x.mean(axis=1)), t)
+            when.append((mean_t, np.interp(mean_t, t, step)))
+            upto = t <= mean_t
+            loss.append(100 * min(0.0, (c[upto, :, 3] / c[0, :, 3] - 1).min()))
+        rows.append((s, when[0][0], when[1][0], when[0][1], when[1][1], lat[0].mean(),
+                     lat[1].mean(), float(np.abs(lat[0] - lat[1]).max()), loss[0], loss[1]))
+    return rows
+
+
+def plot_tracks(path, labels, runs):
+    """Each cell's lateral against downstream advance, both runs over the common span (top), and
+    the difference of its two lateral positions at the same advance (bottom)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    span = common_advance(*runs)
+    grid = np.linspace(0, span, 200)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 8), sharex=True)
+    tracks = []
+    for (_, _, c), label, style in zip(runs, labels, ("-", "--")):
+        x = monotone(c[:, :, 0] - c[0, :, 0])
+        y = np.array([np.interp(grid, x[:, k], c[:, k, 1]) for k in range(c.shape[1])])
+        tracks.append(y)
+        for k in range(c.shape[1]):
+            top.plot(grid, y[k], style, lw=1, color=f"C{k % 10}", label=label if k == 0 else None)
+    for k, dy in enumerate(tracks[1] - tracks[0]):
+        bottom.plot(grid, dy, lw=1, color=f"C{k % 10}")
+    top.set_ylabel("lateral position y [um]")
+    top.set_title(f"each cell's track, {labels[0]} (solid) and {labels[1]} (dashed)")
+    top.legend()
+    bottom.set_xlabel("downstream advance of the cell [um]")
+    bottom.set_ylabel(f"y {labels[1]} - y {labels[0]} [um]")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def report_by_advance(rows, la, lb, csv_path):
+    print(f"advance [um]  time {la} [ms]  time {lb} [ms]  step {la}  step {lb}  lateral {la} [um]  "
+          f"lateral {lb} [um]  largest cell difference [um]  volume loss {la} [%]  "
+          f"volume loss {lb} [%]")
+    for r in rows:
+        print(f"{r[0]:.3f}  {r[1]:.4g}  {r[2]:.4g}  {r[3]:.0f}  {r[4]:.0f}  {r[5]:.3f}  {r[6]:.3f}  "
+              f"{r[7]:.3f}  {r[8]:.3f}  {r[9]:.3f}")
+    if csv_path:
+        with open(csv_path, "w") as f:
+            f.write("advance_um,time_a_ms,time_b_ms,step_a,step_b,lateral_a_um,lateral_b_um,"
+                    "largest_lateral_difference_um,volume_loss_a_percent,volume_loss_b_percent\n")
+            f.writelines(",".join(f"{v:.6g}" for v in r) + "\n" for r in rows)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs=2, metavar="LABEL=run.h5")
     ap.add_argument("--times", type=int, default=10, help="how many times to compare at (1..1000)")
+    ap.add_argument("--by", choices=("time", "advance"), default="time",
+                    help="compare at the same physical time (default) or downstream advance")
     ap.add_argument("--csv", help="the rows as CSV")
+    ap.add_argument("--plot", help="with --by advance: each cell's track of both runs (PNG)")
     a = ap.parse_args()
+    if a.plot and a.by != "advance":
+        sys.exit("--plot: expected --by advance (tracks are drawn over the common advance)")
     if not 1 <= a.times <= 1000:
         sys.exit(f"--times {a.times}: expected 1..1000")
     labels, runs = [], []
@@ -91,8 +177,13 @@ def main():
     if not np.allclose(runs[0][2][0, :, :3], runs[1][2][0, :, :3], atol=1e-6):
         print(f"warning: {labels[0]} and {labels[1]} start from different cell positions: two "
               "suspensions, not two settings", file=sys.stderr)
-    rows = compare(runs[0], runs[1], a.times)
     la, lb = labels
+    if a.by == "advance":
+        report_by_advance(compare_by_advance(runs[0], runs[1], a.times), la, lb, a.csv)
+        if a.plot:
+            plot_tracks(a.plot, labels, runs)
+        return
+    rows = compare(runs[0], runs[1], a.times)
     head = (f"time [ms]  step {la}  step {lb}  advance {la} [um]  advance {lb} [um]  ratio  "
             f"lateral {la} [um]  lateral {lb} [um]  volume loss {la} [%]  volume loss {lb} [%]")
     print(head)

@@ -3,7 +3,10 @@
 1.1 um/ms in run B, sampled at another time step (B's dt half A's), B's cell 1 losing 1 % of its
 volume over the run. The ratio must read 1.1 at every time, B's steps twice A's, B's volume loss
 -1 % at the end; runs of different cell counts, a file that is not HDF5 and a bad --times are
-refused with one line naming them; runs starting from other positions get a warning.
+refused with one line naming them; runs starting from other positions get a warning. --by advance
+on runs whose cells drift sideways (0.1 um per um in A, 0.12 in B for cell 1) at 1 and 2.5 um/ms
+must give B's times 1/2.5 of A's, cell 1's lateral difference 0.02 x the advance, the span the
+slowest cell's, and a plot; --plot without --by advance is refused.
 Usage: compare_runs_test.py PROJECT_SOURCE_DIR"""
 import csv
 import os
@@ -17,12 +20,14 @@ import numpy as np
 tool = os.path.join(sys.argv[1], "analysis", "compare_runs.py")
 
 
-def run_file(path, dt_s, speed_um_per_ms, loss, cells=2, start_y=0.0, part=False):
+def run_file(path, dt_s, speed_um_per_ms, loss, cells=2, start_y=0.0, part=False, drift=(0, 0),
+             slow=1.0):
     steps = np.arange(0, 10001, 100, dtype=float)
     t_ms = steps * dt_s * 1e3
     table = [steps]
     for c in range(cells):
-        table += [10.0 * c + speed_um_per_ms * t_ms, start_y + 0.0 * t_ms, 2.4 + 0 * t_ms,
+        x = speed_um_per_ms * t_ms * (slow if c == 1 else 1.0)
+        table += [10.0 * c + x, start_y + drift[min(c, 1)] * x, 2.4 + 0 * t_ms,
                   100.0 * (1 - (loss if c == 1 else 0) * t_ms / t_ms[-1])]
     with h5py.File(path, "w") as f:
         g = f.create_group("cells" if part else "membrane-0/cells")
@@ -68,6 +73,23 @@ with tempfile.TemporaryDirectory() as d:
     r = call(f"A={a}", f"X={bad}")
     assert r.returncode != 0 and r.stderr.startswith(f"{bad}: cannot open as HDF5"), r.stderr
     assert len(r.stderr.strip().splitlines()) == 1, r.stderr
+    a2, b2 = os.path.join(d, "a2.h5"), os.path.join(d, "b2.h5")
+    run_file(a2, 1e-6, 1.0, 0.0, drift=(0.1, 0.1), slow=0.8)  # cell 1 the slower
+    run_file(b2, 1e-6, 2.5, 0.0, drift=(0.1, 0.12), slow=0.8)
+    png = os.path.join(d, "tracks.png")
+    r = call(f"A={a2}", f"B={b2}", "--by", "advance", "--times", "4", "--csv", out, "--plot", png)
+    assert r.returncode == 0 and r.stderr == "", r.stdout + r.stderr
+    with open(out) as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 4 and os.path.getsize(png) > 0, rows
+    assert abs(float(rows[-1]["advance_um"]) - 8.0) < 1e-9, rows[-1]  # A's cell 1: 0.8 x 10 ms
+    for row in rows:
+        s = float(row["advance_um"])
+        assert abs(float(row["time_b_ms"]) * 2.5 / float(row["time_a_ms"]) - 1) < 1e-5, row  # CSV: 6 digits
+        assert abs(float(row["largest_lateral_difference_um"]) - 0.02 * s) < 1e-9, row
+        assert abs(float(row["lateral_a_um"]) - 0.1 * s) < 1e-9, row
+    r = call(f"A={a}", f"B={b}", "--plot", png)
+    assert r.returncode != 0 and r.stderr.strip().startswith("--plot: expected --by advance"), r.stderr
     r = call(f"A={a}", f"B={b}", "--times", "0")
     assert r.returncode != 0 and r.stderr.strip() == "--times 0: expected 1..1000", r.stderr
 print("compare_runs: ok")
