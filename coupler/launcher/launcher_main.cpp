@@ -292,7 +292,8 @@ std::vector<std::vector<std::string>> program_commands(const Options& o, const d
   commands.push_back({dld::coupler::find_program("dld-fluid", DLD_FLUID_EXE), p.scene, "--serve",
                       p.serve, "--peers", std::to_string(peers), "--cells", std::to_string(cells),
                       "-o", p.stem + "-fluid.h5"});
-  if (o.threads > 0) commands[0].insert(commands[0].end(), {"--threads", std::to_string(o.threads)});
+  if (o.threads > 0)
+    commands[0].insert(commands[0].end(), {"--threads", std::to_string(o.threads)});
   if (o.with_cells()) {
     commands[0].insert(commands[0].end(),
                        {"--checkpoint", fluid_checkpoint(p.stem), "--checkpoint-every",
