@@ -15,10 +15,11 @@ then it is two suspensions, not two settings. Reads /membrane-k/cells/samples of
 
 --by advance compares at the same downstream advance instead, for settings whose flows differ in
 physical speed (a Reynolds number raised at the same capillary number runs the same device faster):
-at N advances up to the distance every cell of both runs has travelled, each cell's lateral
-position where it has advanced that far (its own track), the mean lateral advance of each run, the
-largest difference between a cell's two lateral positions [um], the physical times each run took
-to get there (mean advance), and each run's largest volume loss by then. --plot draws every
+at N advances up to the distance the median cell has travelled in both runs, over the cells that
+have travelled that far in both, each cell's lateral position where it has advanced that far (its
+own track), the mean lateral advance of each run, the largest difference between a cell's two
+lateral positions [um], the physical times each run took to get there (mean advance), and each
+run's largest volume loss by then. --plot draws every
 cell's track (lateral against downstream advance) of both runs over the same span.
 """
 import argparse
@@ -86,27 +87,33 @@ def monotone(x):
 
 
 def common_advance(a, b):
-    """The downstream distance [um] every cell of both runs has travelled."""
-    return min(float((monotone(c[:, :, 0] - c[0, :, 0]))[-1].min()) for _, _, c in (a, b))
+    """Per cell, the downstream distance [um] it has travelled in both runs."""
+    return np.minimum(*(monotone(c[:, :, 0] - c[0, :, 0])[-1] for _, _, c in (a, b)))
 
 
 def compare_by_advance(a, b, times):
-    """Rows (advance_um, time_a_ms, time_b_ms, step_a, step_b, lateral_a, lateral_b,
-    largest_lateral_difference, volume_loss_a, volume_loss_b) at `times` advances."""
-    span = common_advance(a, b)
+    """Rows (advance_um, cells, time_a_ms, time_b_ms, step_a, step_b, lateral_a, lateral_b,
+    largest_lateral_difference, volume_loss_a, volume_loss_b) at `times` advances up to the
+    median cell's common advance (or either run's mean advance, if less: that dates each row);
+    each row over the cells that have travelled that far in both runs (a cell held at a pillar
+    would otherwise end the comparison)."""
+    reach = common_advance(a, b)
+    means = [monotone(c[:, :, 0] - c[0, :, 0]).mean(axis=1)[-1] for _, _, c in (a, b)]
+    span = float(min(np.median(reach), *means))
     rows = []
     for s in np.linspace(0, span, times + 1)[1:]:
         lat, when, loss = [], [], []
+        cells = np.flatnonzero(reach >= s)
         for t, step, c in (a, b):
             x = monotone(c[:, :, 0] - c[0, :, 0])
-            y = [np.interp(s, x[:, k], c[:, k, 1] - c[0, k, 1]) for k in range(c.shape[1])]
-            lat.append(np.array(y))
+            lat.append(np.array([np.interp(s, x[:, k], c[:, k, 1] - c[0, k, 1]) for k in cells]))
             mean_t = np.interp(s, monotone(x.mean(axis=1)), t)
             when.append((mean_t, np.interp(mean_t, t, step)))
             upto = t <= mean_t
             loss.append(100 * min(0.0, (c[upto, :, 3] / c[0, :, 3] - 1).min()))
-        rows.append((s, when[0][0], when[1][0], when[0][1], when[1][1], lat[0].mean(),
-                     lat[1].mean(), float(np.abs(lat[0] - lat[1]).max()), loss[0], loss[1]))
+        rows.append((s, len(cells), when[0][0], when[1][0], when[0][1], when[1][1],
+                     lat[0].mean(), lat[1].mean(), float(np.abs(lat[0] - lat[1]).max()), loss[0],
+                     loss[1]))
     return rows
 
 
@@ -116,18 +123,15 @@ def plot_tracks(path, labels, runs):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    span = common_advance(*runs)
-    grid = np.linspace(0, span, 200)
+    reach = common_advance(*runs)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8, 8), sharex=True)
-    tracks = []
-    for (_, _, c), label, style in zip(runs, labels, ("-", "--")):
-        x = monotone(c[:, :, 0] - c[0, :, 0])
-        y = np.array([np.interp(grid, x[:, k], c[:, k, 1]) for k in range(c.shape[1])])
-        tracks.append(y)
-        for k in range(c.shape[1]):
-            top.plot(grid, y[k], style, lw=1, color=f"C{k % 10}", label=label if k == 0 else None)
-    for k, dy in enumerate(tracks[1] - tracks[0]):
-        bottom.plot(grid, dy, lw=1, color=f"C{k % 10}")
+    for k, span in enumerate(reach):
+        grid = np.linspace(0, span, 200)
+        y = []
+        for (_, _, c), label, style in zip(runs, labels, ("-", "--")):
+            y.append(np.interp(grid, monotone(c[:, k, 0] - c[0, k, 0]), c[:, k, 1]))
+            top.plot(grid, y[-1], style, lw=1, color=f"C{k % 10}", label=label if k == 0 else None)
+        bottom.plot(grid, y[1] - y[0], lw=1, color=f"C{k % 10}")
     top.set_ylabel("lateral position y [um]")
     top.set_title(f"each cell's track, {labels[0]} (solid) and {labels[1]} (dashed)")
     top.legend()
@@ -138,15 +142,15 @@ def plot_tracks(path, labels, runs):
 
 
 def report_by_advance(rows, la, lb, csv_path):
-    print(f"advance [um]  time {la} [ms]  time {lb} [ms]  step {la}  step {lb}  lateral {la} [um]  "
-          f"lateral {lb} [um]  largest cell difference [um]  volume loss {la} [%]  "
+    print(f"advance [um]  cells  time {la} [ms]  time {lb} [ms]  step {la}  step {lb}  "
+          f"lateral {la} [um]  lateral {lb} [um]  largest cell difference [um]  volume loss {la} [%]  "
           f"volume loss {lb} [%]")
     for r in rows:
-        print(f"{r[0]:.3f}  {r[1]:.4g}  {r[2]:.4g}  {r[3]:.0f}  {r[4]:.0f}  {r[5]:.3f}  {r[6]:.3f}  "
-              f"{r[7]:.3f}  {r[8]:.3f}  {r[9]:.3f}")
+        print(f"{r[0]:.3f}  {r[1]}  {r[2]:.4g}  {r[3]:.4g}  {r[4]:.0f}  {r[5]:.0f}  {r[6]:.3f}  "
+              f"{r[7]:.3f}  {r[8]:.3f}  {r[9]:.3f}  {r[10]:.3f}")
     if csv_path:
         with open(csv_path, "w") as f:
-            f.write("advance_um,time_a_ms,time_b_ms,step_a,step_b,lateral_a_um,lateral_b_um,"
+            f.write("advance_um,cells,time_a_ms,time_b_ms,step_a,step_b,lateral_a_um,lateral_b_um,"
                     "largest_lateral_difference_um,volume_loss_a_percent,volume_loss_b_percent\n")
             f.writelines(",".join(f"{v:.6g}" for v in r) + "\n" for r in rows)
 

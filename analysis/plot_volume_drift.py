@@ -3,34 +3,23 @@
 
     analysis/plot_volume_drift.py out.png LABEL=run.h5 [LABEL=run.h5 ...] [--x step] [--csv out.csv]
 
-Reads /membrane-k/cells/samples of each run file (columns: step, then per cell centroid x y z
-[um] and volume [um^3]) and the time step (its dt_s attribute); plots the smallest and the mean cell volume change
-[% of the first sample] against physical time [ms], or with --x step against the time step (a
-numerical effect tied to the step shows there as one curve whatever the time step). The CSV has one row per run and sample.
+Reads /membrane-k/cells/samples of each run file, or /cells/samples of a membrane part file
+(columns: step, then per cell centroid x y z [um] and volume [um^3]) and the time step (its dt_s
+attribute); plots the smallest and the mean cell volume change [% of the first sample] against
+physical time [ms], or with --x step against the time step (a numerical effect tied to the step
+shows there as one curve whatever the time step). The CSV has one row per run and sample.
 """
 import argparse
 import sys
 
-import h5py
-import numpy as np
+from compare_runs import samples  # the reader of run and part files (this script's folder)
 
 
 def volumes(path):
-    """(step, time_ms, volumes[sample, cell]) of one run file, all membrane parts side by side."""
-    try:
-        f = h5py.File(path, "r")
-    except OSError as e:
-        sys.exit(f"{path}: cannot open as HDF5 ({e})")
-    with f:
-        parts = sorted(k for k in f if k.startswith("membrane-") and "cells/samples" in f[k])
-        if not parts:
-            sys.exit(f"{path}: no /membrane-k/cells/samples (expected a run file written by dld-run)")
-        dt_s = float(f[parts[0]]["cells"].attrs["dt_s"])
-        tables = [f[p]["cells/samples"][:] for p in parts]
-    n = min(len(t) for t in tables)
-    step = tables[0][:n, 0]
-    vol = np.hstack([t[:n, 4::4] for t in tables])
-    return step, step * dt_s * 1e3, vol
+    """(step, time_ms, volumes[sample, cell]) of a run file (all membrane parts side by side) or of
+    a membrane part file (run-cells-k.h5: a running run's, which holds every sample so far)."""
+    time_ms, step, cells = samples(path)
+    return step, time_ms, cells[:, :, 3]
 
 
 def main():
