@@ -1,6 +1,7 @@
 # Sourced by the two-host tests: two network namespaces A (10.203.0.1) and B (10.203.0.2) joined
 # by a veth pair, loopback up in each, removed (with every process in them) on exit; and the
-# touching four-cell scene of split_equality.sh. Needs $dir (a scratch folder) and $src.
+# touching four-cell scene of split_equality.sh, and one leg of a resumed run of it. Needs $dir (a
+# scratch folder) and $src; leg needs $run (dld-run).
 # make_namespaces exits 77 (skipped) where namespaces cannot be made (not root, no iproute2, a
 # container without CAP_SYS_ADMIN).
 tag=dld$$ a=dld$$a b=dld$$b
@@ -35,4 +36,11 @@ touching_cells_scene() {  # NAME K TIMEOUT_S: four cells within each other's con
   for c in "3.0, 0.0" "11.3, 0.0" "19.6, 0.0" "3.0, 8.4"; do
     printf '[[cells.cell]]\ncentre_um = [%s, 2.4]\n' "$c"
   done
+}
+leg() {  # NAME STEPS ARGS...: one leg of a run in $dir/NAME, its output shown if it fails
+  local name=$1 n=$2
+  shift 2
+  (cd "$src" && "$run" "$dir/$name/scene.toml" --membrane cells --steps "$n" \
+      --checkpoint-every 250 "$@" > "$dir/$name/out-$n.txt" 2>&1) ||
+    { echo "$name to step $n ($*) failed:"; cat "$dir/$name/out-$n.txt"; exit 1; }
 }

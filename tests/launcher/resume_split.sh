@@ -9,14 +9,7 @@ set -euo pipefail
 run=$1 src=$2 steps=${3:-2000}
 dir=$(mktemp -d /tmp/dld-resume-split.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-. "$(dirname "$0")/netns.sh"  # touching_cells_scene
-leg() {  # NAME STEPS ARGS...: one leg of a run, its output shown if it fails
-  local name=$1 n=$2
-  shift 2
-  (cd "$src" && "$run" "$dir/$name/scene.toml" --membrane cells --steps "$n" \
-      --checkpoint-every 250 "$@" > "$dir/$name/out-$n.txt" 2>&1) ||
-    { echo "$name to step $n ($*) failed:"; cat "$dir/$name/out-$n.txt"; exit 1; }
-}
+. "$(dirname "$0")/netns.sh"  # touching_cells_scene, leg
 for name in straight resumed; do
   mkdir -p "$dir/$name"
   touching_cells_scene "$name" "$([ $name = straight ] && echo 1 || echo 2)" 60.0 \

@@ -11,14 +11,7 @@ run=$1 src=$2 steps=${3:-1000}
 round_off=1e-10
 dir=$(mktemp -d /tmp/dld-resume-threads.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-. "$(dirname "$0")/netns.sh"  # touching_cells_scene
-leg() {  # NAME STEPS ARGS...: one leg of a run, its output shown if it fails
-  local name=$1 n=$2
-  shift 2
-  (cd "$src" && "$run" "$dir/$name/scene.toml" --membrane cells --steps "$n" \
-      --checkpoint-every 250 "$@" > "$dir/$name/out-$n.txt" 2>&1) ||
-    { echo "$name to step $n ($*) failed:"; cat "$dir/$name/out-$n.txt"; exit 1; }
-}
+. "$(dirname "$0")/netns.sh"  # touching_cells_scene, leg
 threads_said() {  # NAME: the OpenMP threads each program's log names, one line
   cat "$dir/$1/run-fluid.log" "$dir/$1/run-cells-0.log" | grep -o "[0-9]* OpenMP threads" |
     tr '\n' ' '
