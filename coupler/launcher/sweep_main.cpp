@@ -144,7 +144,6 @@ int default_jobs(const std::deque<const StudyRun*>& queue, int threads_option) {
 struct Options {
   std::string study_path, resolution, slurm;
   int jobs = 0, index = -1;          // jobs 0: one run per core, see default_jobs
-  int threads = 0;                   ///< each run's program threads (dld-run --threads); 0: scene's
   dld::coupler::SlurmLayout layout;  ///< --membrane-nodes, --membrane-processes
   std::vector<std::string> hosts;
   std::vector<std::string> only;
@@ -184,9 +183,9 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--membrane-processes", o.layout.membrane_processes,
                  "each run's membrane processes (dld-run --membrane-processes)")
       ->check(CLI::Range(1, 64));
-  app.add_option("--threads", o.threads,
+  app.add_option("--threads", o.layout.threads,
                  "each run's OpenMP threads per program (dld-run --threads; default: the "
-                 "setting's [run] threads; round-off only)")
+                 "setting's [run] threads; round-off only); with --slurm also a task's cpus")
       ->check(CLI::Range(1, 1024));
   app.add_option("--hosts", o.hosts, "each run's membrane hosts, comma-separated (dld-run --hosts)")
       ->delimiter(',');
@@ -200,7 +199,7 @@ std::vector<std::string> placement_args(const Options& o) {
   std::vector<std::string> a;
   if (o.layout.membrane_processes > 0)
     a.insert(a.end(), {"--membrane-processes", std::to_string(o.layout.membrane_processes)});
-  if (o.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.threads)});
+  if (o.layout.threads > 0) a.insert(a.end(), {"--threads", std::to_string(o.layout.threads)});
   if (!o.hosts.empty()) a.insert(a.end(), {"--hosts", fmt::format("{}", fmt::join(o.hosts, ","))});
   return a;
 }
@@ -447,7 +446,7 @@ static int run_main(int argc, char** argv) {
     const std::vector<const StudyRun*> to_do =
         dld::coupler::runs_to_do(chosen, done_before, failed_before, o.retry_failed);
     std::deque<const StudyRun*> queue(to_do.begin(), to_do.end());
-    const int jobs = o.jobs == 0 ? default_jobs(queue, o.threads) : o.jobs;
+    const int jobs = o.jobs == 0 ? default_jobs(queue, o.layout.threads) : o.jobs;
     fmt::print("dld-sweep: study {} ({}), {} runs selected: {} done, {} to run, {} at a time{}\n",
                study.name, resolution.empty() ? "default resolution" : resolution, chosen.size(),
                done_before, queue.size(), jobs,

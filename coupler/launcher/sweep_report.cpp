@@ -390,18 +390,21 @@ struct SlurmLines {
 };
 
 SlurmLines slurm_lines(const SlurmLayout& l) {
-  if (l.membrane_nodes <= 0) return {"#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=2\n", "", ""};
+  const int cpus = l.threads > 0 ? l.threads : 2;  // the fluid and the membranes take turns
+  const std::string threads = l.threads > 0 ? fmt::format(" --threads {}", l.threads) : "";
+  if (l.membrane_nodes <= 0)
+    return {fmt::format("#SBATCH --ntasks=1\n#SBATCH --cpus-per-task={}\n", cpus), "", threads};
   const int k = l.membrane_processes > 0 ? l.membrane_processes : l.membrane_nodes;
   const int per_node = (k + l.membrane_nodes - 1) / l.membrane_nodes;
   return {fmt::format("#SBATCH --nodes={}\n#SBATCH --ntasks-per-node={}\n"
-                      "#SBATCH --cpus-per-task=2\n",
-                      1 + l.membrane_nodes, per_node),
+                      "#SBATCH --cpus-per-task={}\n",
+                      1 + l.membrane_nodes, per_node, cpus),
           fmt::format("# The fluid on this (the first) node, {} membrane processes on the {} "
                       "others, started by dld-run through srun.\n"
                       "hosts=$(scontrol show hostnames \"$SLURM_JOB_NODELIST\" | tail -n +2 | "
                       "paste -sd, -)\n",
                       k, l.membrane_nodes),
-          fmt::format(" --membrane-processes {} --hosts \"$hosts\"", k)};
+          fmt::format(" --membrane-processes {} --hosts \"$hosts\"{}", k, threads)};
 }
 
 }  // namespace

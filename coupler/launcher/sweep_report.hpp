@@ -68,6 +68,7 @@ std::string write_unfinished_summary(const Study& study, const std::vector<Study
 /// starts them through srun).
 struct SlurmLayout {
   int membrane_nodes = 0, membrane_processes = 0;
+  int threads = 0;  ///< each program's threads (dld-run --threads) and a task's cpus; 0: 2 cpus
 };
 
 /// A SLURM job-array script: task i runs `dld-sweep STUDY --resolution R --index i`, at most

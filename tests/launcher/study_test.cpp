@@ -97,6 +97,15 @@ TEST_F(StudyFile, SlurmTasksSpanOneNodeOrOnePlusTheMembraneNodes) {
       << three;
   // The summary line names no hosts: it runs anywhere.
   EXPECT_NE(three.find("--summary --resolution coarse\n"), std::string::npos) << three;
+  // dld-sweep --threads N: N cpus a task, passed on to every run.
+  const std::string four =
+      dld::coupler::slurm_script(study, "coarse", 6, 2, "/bin/dld-sweep", {0, 0, 4});
+  EXPECT_NE(four.find("#SBATCH --ntasks=1\n#SBATCH --cpus-per-task=4\n"), std::string::npos)
+      << four;
+  EXPECT_NE(four.find("--index \"$SLURM_ARRAY_TASK_ID\" --resolution coarse --threads 4\n"),
+            std::string::npos)
+      << four;
+  EXPECT_NE(one.find("#SBATCH --cpus-per-task=2\n"), std::string::npos) << one;
 }
 
 // A sweep started again resumes its partial runs before it starts waiting ones, each group in
