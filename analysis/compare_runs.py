@@ -143,8 +143,8 @@ def plot_tracks(path, labels, runs):
 
 def report_by_advance(rows, la, lb, csv_path):
     print(f"advance [um]  cells  time {la} [ms]  time {lb} [ms]  step {la}  step {lb}  "
-          f"lateral {la} [um]  lateral {lb} [um]  largest cell difference [um]  volume loss {la} [%]  "
-          f"volume loss {lb} [%]")
+          f"lateral {la} [um]  lateral {lb} [um]  largest cell difference [um]  "
+          f"volume loss {la} [%]  volume loss {lb} [%]")
     for r in rows:
         print(f"{r[0]:.3f}  {r[1]}  {r[2]:.4g}  {r[3]:.4g}  {r[4]:.0f}  {r[5]:.0f}  {r[6]:.3f}  "
               f"{r[7]:.3f}  {r[8]:.3f}  {r[9]:.3f}  {r[10]:.3f}")
