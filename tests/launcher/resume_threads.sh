@@ -2,9 +2,9 @@
 # dld-run --threads: each program runs on the threads asked for, whatever the scene's [run]
 # threads (1 in configs/single-cell.toml), and a run resumes with another number of them. The
 # four touching cells of split_equality.sh run STEPS/2 steps with --threads 2 and resume to STEPS
-# with --threads 1 (the scene file unchanged, so its hash still matches the checkpoints). Threads change the order of
-# some sums only, so the final node positions must match one straight run at the scene's threads
-# to within round-off (ROUND_OFF lattice lengths; the headline's 15 cells after 500 steps: 4e-13).
+# with --threads 1 (the scene file unchanged, so its hash still matches the checkpoints).
+# Threads change the order of some sums only, so the final node positions must match one straight
+# run at the scene's threads to within round-off (ROUND_OFF lattice lengths; the headline's 15 cells after 500 steps: 4e-13).
 # Usage: resume_threads.sh DLD_RUN PROJECT_SOURCE_DIR [STEPS]
 set -euo pipefail
 run=$1 src=$2 steps=${3:-1000}
@@ -27,7 +27,8 @@ said=$(threads_said resumed)
   { echo "--threads 2: the programs said '$said'"; exit 1; }
 leg resumed "$steps" --resume --threads 1
 grep -q "resuming at step $((steps / 2))" "$dir/resumed/out-$steps.txt" ||
-  { echo "--threads 1 did not resume at step $((steps / 2))"; cat "$dir/resumed/out-$steps.txt"; exit 1; }
+  { echo "--threads 1 did not resume at step $((steps / 2))"; cat "$dir/resumed/out-$steps.txt"
+    exit 1; }
 /usr/bin/python3 - "$dir" "$steps" "$round_off" <<'PY'
 import sys
 import h5py, numpy as np
