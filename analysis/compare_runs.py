@@ -19,8 +19,8 @@ at N advances up to the distance the median cell has travelled in both runs, ove
 have travelled that far in both, each cell's lateral position where it has advanced that far (its
 own track), the mean lateral advance of each run, the largest difference between a cell's two
 lateral positions [um], the physical times each run took to get there (mean advance), and each
-run's largest volume loss by then. --plot draws every
-cell's track (lateral against downstream advance) of both runs over the same span.
+run's largest volume loss by then. --plot draws every cell's track (lateral against downstream
+advance) of both runs over the same span, and each cell's lateral difference.
 """
 import argparse
 import sys

@@ -157,7 +157,7 @@ void add_options(CLI::App& app, Options& o) {
   app.add_option("--resolution", o.resolution,
                  "a [study.resolution.NAME] of the study file (coarser lattice and mesh)");
   app.add_option("--jobs,-j", o.jobs,
-                 "runs at the same time (default: cores / the runs' [run] threads)")
+                 "runs at the same time (default: cores / --threads or the runs' [run] threads)")
       ->check(CLI::Range(1, 1024));
   app.add_option("--index", o.index, "run only the run with this index (0-based; SLURM arrays)")
       ->check(CLI::NonNegativeNumber);

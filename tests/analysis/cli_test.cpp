@@ -348,6 +348,11 @@ TEST(PlotVolumeDrift, GivesTheSmallestAndTheMeanVolumeChangeOverEveryPart) {
   ASSERT_EQ(rows.size(), 12u);  // header + 11 samples
   // Last sample: step 1000, t = 1000 x 1e-7 s = 0.1 ms; smallest -4 %, mean -4/3 %.
   EXPECT_EQ(rows.back(), "run a,1000,0.1,-4,-1.3333") << rows.back();
+  // A running run's membrane part file (run-cells-k.h5, every sample so far) reads alike.
+  const Result part = run(
+      script + dir + "/part.png 'part=" + dir + "/a-cells-0.h5' --csv " + dir + "/part.csv", dir);
+  ASSERT_EQ(part.status, 0) << part.output;
+  EXPECT_EQ(lines(dir + "/part.csv").back(), "part,1000,0.1,-4,-4") << part.output;
   const Result bad = run(script + dir + "/bad.png " + dir + "/a.h5", dir);
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.output.find("expected LABEL=run.h5"), std::string::npos) << bad.output;

@@ -4,7 +4,7 @@
 # four touching cells of split_equality.sh run STEPS/2 steps with --threads 2 and resume to STEPS
 # with --threads 1 (the scene file unchanged, so its hash still matches the checkpoints).
 # Threads change the order of some sums only, so the final node positions must match one straight
-# run at the scene's threads to within round-off (ROUND_OFF lattice lengths; measured 8.7e-13 here,
+# run at the scene's threads to within round-off (round_off below, in lattice lengths; 8.7e-13 here,
 # and 4e-13 um for the headline's 15 cells after 500 steps).
 # Usage: resume_threads.sh DLD_RUN PROJECT_SOURCE_DIR [STEPS]
 set -euo pipefail
@@ -27,6 +27,9 @@ said=$(threads_said resumed)
 [ "$said" = "2 OpenMP threads 2 OpenMP threads " ] ||
   { echo "--threads 2: the programs said '$said'"; exit 1; }
 leg resumed "$steps" --resume --threads 1
+said=$(threads_said resumed)  # the logs of the resumed leg
+[ "$said" = "1 OpenMP threads 1 OpenMP threads " ] ||
+  { echo "--threads 1: the programs said '$said'"; exit 1; }
 grep -q "resuming at step $((steps / 2))" "$dir/resumed/out-$steps.txt" ||
   { echo "--threads 1 did not resume at step $((steps / 2))"; cat "$dir/resumed/out-$steps.txt"
     exit 1; }

@@ -106,6 +106,14 @@ TEST_F(StudyFile, SlurmTasksSpanOneNodeOrOnePlusTheMembraneNodes) {
             std::string::npos)
       << four;
   EXPECT_NE(one.find("#SBATCH --cpus-per-task=2\n"), std::string::npos) << one;
+  const std::string hosts =
+      dld::coupler::slurm_script(study, "coarse", 6, 2, "/bin/dld-sweep", {2, 5, 4});
+  EXPECT_NE(hosts.find("#SBATCH --ntasks-per-node=3\n#SBATCH --cpus-per-task=4\n"),
+            std::string::npos)
+      << hosts;
+  EXPECT_NE(hosts.find("--membrane-processes 5 --hosts \"$hosts\" --threads 4\n"),
+            std::string::npos)
+      << hosts;
 }
 
 // A sweep started again resumes its partial runs before it starts waiting ones, each group in

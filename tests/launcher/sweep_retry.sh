@@ -54,11 +54,13 @@ calls() { grep -c . "$dir/$1/fast/Ht8-d4.4/calls"; }
 
 # Fails, retried with the exact start, ends: done, the stretch in the summary, the failure's log
 # kept; the sweep's --threads reaches every attempt.
-[ "$(sweep_case ok ok --retry-failed --exact-coupling-for 500 --threads 1)" = 0 ] || { cat "$dir/ok.log"; fail "ok: sweep failed"; }
+[ "$(sweep_case ok ok --retry-failed --exact-coupling-for 500 --threads 1)" = 0 ] ||
+  { cat "$dir/ok.log"; fail "ok: sweep failed"; }
 run=$dir/ok/fast/Ht8-d4.4
 [ "$(calls ok)" = 2 ] || fail "ok: $(calls ok) starts, expected 2"
 sed -n 2p "$run/calls" | grep -q -- "--resume --exact-coupling-for 500" || fail "ok: retry without the exact start: $(sed -n 2p "$run/calls")"
-[ "$(grep -c -- "--threads 1" "$run/calls")" = 2 ] || fail "ok: --threads 1 not passed on: $(cat "$run/calls")"
+[ "$(grep -c -- "--threads 1" "$run/calls")" = 2 ] ||
+  fail "ok: --threads 1 not passed on: $(cat "$run/calls")"
 [ -f "$run/done.toml" ] || fail "ok: the retried run is not done"
 grep -q "stand-in guard" "$run/dld-run.failures.log" || fail "ok: the failed attempt's log was not kept"
 grep -q "^Ht8-d4.4,.*,1000-1500," "$dir/ok/fast/summary.csv" || fail "ok: no exact_coupling in $(cat "$dir/ok/fast/summary.csv")"
