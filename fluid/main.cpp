@@ -15,6 +15,7 @@
 #include "shared/guarded_main.hpp"
 #include "shared/input_error.hpp"
 #include "shared/log.hpp"
+#include "shared/openmp_wait.hpp"
 #include "shared/scene.hpp"
 
 static int run_main(int argc, char** argv) {
@@ -55,7 +56,7 @@ static int run_main(int argc, char** argv) {
     if (check_only) return 0;
     const int t = threads > 0 ? threads : scene.run.threads;
     if (t > 0) omp_set_num_threads(t);
-    spdlog::info("{} OpenMP threads", omp_get_max_threads());
+    spdlog::info("{} OpenMP threads ({})", omp_get_max_threads(), dld::openmp_wait_settings());
     if (!coupled.endpoint.empty()) {
       coupled.output = output;
       return dld::fluid::serve_coupled(scene, coupled);

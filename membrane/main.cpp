@@ -21,6 +21,7 @@
 #include "shared/guarded_main.hpp"
 #include "shared/h5file.hpp"
 #include "shared/log.hpp"
+#include "shared/openmp_wait.hpp"
 
 namespace {
 
@@ -192,7 +193,7 @@ static int run_main(int argc, char** argv) {
       // that runs side by side (dld-sweep --jobs) do not oversubscribe them.
       const int t = threads > 0 ? threads : scene.run.threads;
       if (t > 0) omp_set_num_threads(t);
-      spdlog::info("{} OpenMP threads", omp_get_max_threads());
+      spdlog::info("{} OpenMP threads ({})", omp_get_max_threads(), dld::openmp_wait_settings());
       if (coupled.peer >= coupled.peers)
         throw dld::InputError(
             fmt::format("--peer {}: expected below --peers {}", coupled.peer, coupled.peers));
