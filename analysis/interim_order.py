@@ -9,32 +9,17 @@ summary-unfinished.csv; a run not in it, or no such file: 0).
 A replaced machine starts every run from step 0, so the run whose committed analysis got furthest
 is the last worth repeating: its first pillars are known (scripts/long-runs start).
 """
-import csv
-import os
 import sys
+
+from keep_so_far import pillars, read  # the kept analyses' reader (this script's folder)
 
 
 def main():
     if len(sys.argv) < 3:
         sys.exit("usage: interim_order.py KEPT_CSV RUN [RUN ...]")
     path, runs = sys.argv[1], sys.argv[2:]
-    reached = {}
-    if os.path.exists(path):
-        try:
-            with open(path, newline="") as f:
-                reader = csv.DictReader(f)
-                rows = list(reader)
-        except OSError as e:
-            sys.exit(f"interim_order.py: error: {path}: cannot read ({e.strerror})")
-        for need in ("run", "slowest_cell_pillars"):
-            if rows and need not in (reader.fieldnames or []):
-                sys.exit(f"interim_order.py: error: {path}: missing column {need}")
-        for r in rows:
-            try:
-                reached[r["run"]] = float(r["slowest_cell_pillars"])
-            except ValueError:
-                sys.exit(f"interim_order.py: error: {path}: run {r['run']}: slowest_cell_pillars "
-                         f"'{r['slowest_cell_pillars']}' is not a number")
+    _, rows = read(path, ("run", "slowest_cell_pillars"), "interim_order.py")
+    reached = {r["run"]: pillars(r, path, "interim_order.py") for r in rows}
     print(" ".join(sorted(runs, key=lambda run: reached.get(run, 0.0))))
 
 

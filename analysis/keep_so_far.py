@@ -16,6 +16,7 @@ KEPT_DIR/RUN-{...}.png.
 """
 import argparse
 import csv
+import math
 import os
 import shutil
 import sys
@@ -24,7 +25,7 @@ CSV = "summary-unfinished.csv"
 PLOTS = ("trajectories", "outlets", "volume-drift")  # the last one: scripts/long-runs interim
 
 
-def read(path, required):
+def read(path, required, tool="keep_so_far.py"):
     """(header, rows) of a CSV, ([], []) if it does not exist; a one-line error if it lacks a
     required column."""
     if not os.path.exists(path):
@@ -35,19 +36,24 @@ def read(path, required):
             rows = list(reader)
             header = reader.fieldnames or []
     except OSError as e:
-        sys.exit(f"keep_so_far.py: error: {path}: cannot read ({e.strerror})")
+        sys.exit(f"{tool}: error: {path}: cannot read ({e.strerror})")
     missing = [c for c in required if rows and c not in header]
     if missing:
-        sys.exit(f"keep_so_far.py: error: {path}: missing column(s) {', '.join(missing)}")
+        sys.exit(f"{tool}: error: {path}: missing column(s) {', '.join(missing)}")
     return header, rows
 
 
-def pillars(row, path):
+def pillars(row, path, tool="keep_so_far.py"):
+    """The pillars the run's slowest cell had passed, or a one-line error naming the file."""
+    value = row.get("slowest_cell_pillars")
     try:
-        return float(row["slowest_cell_pillars"])
-    except ValueError:
-        sys.exit(f"keep_so_far.py: error: {path}: run {row['run']}: slowest_cell_pillars "
-                 f"'{row['slowest_cell_pillars']}' is not a number")
+        number = float(value)
+    except (TypeError, ValueError):
+        number = math.nan
+    if not math.isfinite(number):
+        sys.exit(f"{tool}: error: {path}: run {row.get('run')}: slowest_cell_pillars '{value}' "
+                 f"is not a number")
+    return number
 
 
 def drop_plots(kept_dir, run):
@@ -55,6 +61,16 @@ def drop_plots(kept_dir, run):
         path = os.path.join(kept_dir, f"{run}-{p}.png")
         if os.path.exists(path):
             os.remove(path)
+
+
+def write(path, header, rows):
+    try:
+        with open(path, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=header, extrasaction="ignore", lineterminator="\n")
+            w.writeheader()
+            w.writerows(rows)
+    except OSError as e:
+        sys.exit(f"keep_so_far.py: error: {path}: cannot write ({e.strerror})")
 
 
 def main():
@@ -68,13 +84,18 @@ def main():
     kept_header, kept_rows = read(kept_path, need)
     _, finished = read(os.path.join(a.sweep_dir, "summary.csv"), ("run",))
     done = {r["run"] for r in finished}
-    os.makedirs(a.kept_dir, exist_ok=True)
+    try:
+        os.makedirs(a.kept_dir, exist_ok=True)
+    except OSError as e:
+        sys.exit(f"keep_so_far.py: error: {a.kept_dir}: cannot make it ({e.strerror})")
     kept = {r["run"]: r for r in kept_rows if r["run"] not in done}
     for run in {r["run"] for r in kept_rows} & done:
         drop_plots(a.kept_dir, run)
         print(f"{run}: finished, its interim analysis removed")
     for r in new_rows:
         run, old = r["run"], kept.get(r["run"])
+        if run in done:  # an older summary-unfinished.csv may still name it
+            continue
         if old is not None and pillars(old, kept_path) > pillars(r, new_path):
             print(f"{run}: kept the earlier analysis ({pillars(old, kept_path):.2f} pillars for "
                   f"its slowest cell, here {pillars(r, new_path):.2f})")
@@ -84,19 +105,18 @@ def main():
         for p in PLOTS:
             src = os.path.join(a.sweep_dir, run, "so-far", f"run-{p}.png")
             if os.path.exists(src):
-                shutil.copyfile(src, os.path.join(a.kept_dir, f"{run}-{p}.png"))
+                try:
+                    shutil.copyfile(src, os.path.join(a.kept_dir, f"{run}-{p}.png"))
+                except OSError as e:
+                    sys.exit(f"keep_so_far.py: error: {src}: cannot copy ({e.strerror})")
         print(f"{run}: {r.get('state', '')}, {pillars(r, new_path):.2f} pillars for its slowest "
               f"cell (kept)")
-    header = new_header or kept_header
+    header = new_header + [c for c in kept_header if c not in new_header]  # kept rows' own too
     if not kept:
         if os.path.exists(kept_path):
             os.remove(kept_path)
         return
-    with open(kept_path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=header, extrasaction="ignore", lineterminator="\n")
-        w.writeheader()
-        for run in sorted(kept):
-            w.writerow(kept[run])
+    write(kept_path, header, [kept[run] for run in sorted(kept)])
     print(f"{kept_path}: {len(kept)} unfinished run(s)")
 
 

@@ -558,8 +558,9 @@ static int run_main(int argc, char** argv) {
     setenv("OMP_WAIT_POLICY", "PASSIVE", /*overwrite=*/0);
     // But a thread that sleeps at once between the many parallel regions of one program's step
     // waits for a wake-up each time (slow in a virtual machine): a short spin first made one run
-    // on two threads 1.2-1.5x faster at `fast` and 1.1x at the exact coupling, while the other
-    // program's turn is long enough to put them to sleep (docs/performance.md, "A short spin").
+    // on two threads 1.3-1.6x faster at `fast` and 1.2x at the exact coupling, while the other
+    // program's turn is long enough to put them to sleep (docs/performance.md, "A short spin
+    // before sleeping"). GCC's OpenMP reads GOMP_SPINCOUNT; other runtimes ignore it.
     setenv("GOMP_SPINCOUNT", "20000", /*overwrite=*/0);
     const auto place = dld::coupler::make_placement(o.hosts, scene.coupling.membrane_processes,
                                                     o.fluid_host, o.start_with);

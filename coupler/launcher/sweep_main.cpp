@@ -127,10 +127,10 @@ int analyze(const StudyRun& run, const dld::coupler::Study& study, const std::st
   return dld::coupler::wait_child(c);
 }
 
-/// Runs side by side, one thread each, give more steps per second in all than one run on every
-/// core (2-core machine, 2026-12-01: 17 cells 1.17-1.19x, 3 cells 1.34-1.40x; docs/performance.md):
-/// as many runs at a time as the cores hold at --threads or the runs' [run] threads (0 = every
-/// core: one).
+/// As many runs at a time as the cores hold at --threads or the runs' [run] threads (0 = every
+/// core: one). Runs side by side at one thread each gave more steps per second in all than one run
+/// on every core (2-core machine, 2026-12-01: 17 cells 1.17-1.19x, 3 cells 1.34-1.40x), about as
+/// many since dld-run's short OpenMP spin (2026-12-07; docs/performance.md).
 int default_jobs(const std::deque<const StudyRun*>& queue, int threads_option) {
   const int cores = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   if (queue.empty()) return 1;

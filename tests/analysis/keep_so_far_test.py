@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """analysis/keep_so_far.py: the kept interim analyses of a study's unfinished runs across
 machines. Kept: run A at 6.5 pillars, run B at 2.0, run C at 3.0 (C finished since). The sweep of a
-new machine has A at 3.1 pillars (started again), B at 4.0 and D at 1.0: A's kept row and plots
-must stay, B's and D's be taken with their plots, C's row and plots must go. A row whose
-slowest_cell_pillars is not a number, or a CSV without that column, is refused with one line naming
-the file. Usage: keep_so_far_test.py PROJECT_SOURCE_DIR"""
+new machine has A at 3.1 pillars (started again), B at 4.0, D at 1.0 (with a volume plot and a
+column the kept file lacks) and C again (an older interim file may still name a finished run): A's
+kept row and plots must stay, B's and D's be taken with their plots, C's row and plots must go, and
+the kept file must have both files' columns. Once every run has finished the kept file goes. A row
+whose slowest_cell_pillars is not a number (or nan, or missing), or a CSV without that column, is
+refused with one line naming the file. Usage: keep_so_far_test.py PROJECT_SOURCE_DIR"""
 import csv
 import os
 import subprocess
@@ -49,12 +51,14 @@ with tempfile.TemporaryDirectory() as tmp:
         for p in ("trajectories", "outlets"):
             touch(os.path.join(kept, f"{run}-{p}.png"), f"old {run}")
     write_csv(os.path.join(sweep, "summary-unfinished.csv"),
-              [["A", "partial", "0.11", "3.1"], ["B", "partial", "0.12", "4.0"],
-               ["D", "failed", "0.14", "1.0"]])
+              [["A", "partial", "0.11", "3.1", "x"], ["B", "partial", "0.12", "4.0", "x"],
+               ["C", "partial", "0.13", "3.5", "x"], ["D", "failed", "0.14", "1.0", "wall"]],
+              HEADER + ["new_column"])
     write_csv(os.path.join(sweep, "summary.csv"), [["C", "", "0.05", "20.0"]])
-    for run in "ABD":
+    for run in "ABCD":
         for p in ("trajectories", "outlets"):
             touch(os.path.join(sweep, run, "so-far", f"run-{p}.png"), f"new {run}")
+    touch(os.path.join(sweep, "D", "so-far", "run-volume-drift.png"), "new D")
     r = subprocess.run([tool, sweep, kept], capture_output=True, text=True)
     check(r.returncode == 0, f"exit {r.returncode}: {r.stderr}")
     rows = read(os.path.join(kept, "summary-unfinished.csv"))
@@ -66,15 +70,29 @@ with tempfile.TemporaryDirectory() as tmp:
             with open(os.path.join(kept, f"{run}-{p}.png")) as f:
                 check(f.read() == text, f"{run}-{p}.png: expected '{text}'")
     check(not os.path.exists(os.path.join(kept, "C-trajectories.png")), "C's plots removed")
+    check(os.path.exists(os.path.join(kept, "D-volume-drift.png")), "D's volume plot copied")
+    check(rows["D"]["new_column"] == "wall" and rows["A"]["new_column"] == ""
+          and rows["A"]["state"] == "partial", f"columns of both files: {rows['A']}, {rows['D']}")
     check("kept the earlier analysis" in r.stdout, f"A's line: {r.stdout}")
 
-    write_csv(os.path.join(sweep, "summary-unfinished.csv"), [["B", "partial", "0.1", "many"]])
+    write_csv(os.path.join(sweep, "summary-unfinished.csv"), [])
+    write_csv(os.path.join(sweep, "summary.csv"), [[run, "", "0", "20"] for run in "ABCD"])
     r = subprocess.run([tool, sweep, kept], capture_output=True, text=True)
-    check(r.returncode != 0 and "slowest_cell_pillars 'many'" in r.stderr
-          and "summary-unfinished.csv" in r.stderr and len(r.stderr.splitlines()) == 1,
-          f"a bad number: {r.returncode} {r.stderr}")
-    write_csv(os.path.join(sweep, "summary-unfinished.csv"), [["B", "partial"]], ["run", "state"])
+    check(r.returncode == 0 and not os.path.exists(os.path.join(kept, "summary-unfinished.csv"))
+          and not os.path.exists(os.path.join(kept, "D-volume-drift.png")),
+          f"all finished: {r.returncode} {r.stderr} {sorted(os.listdir(kept))}")
+    write_csv(os.path.join(sweep, "summary.csv"), [])
+
+    sweep_csv = os.path.join(sweep, "summary-unfinished.csv")
+    for bad, said in ((["B", "partial", "0.1", "many"], "'many'"),
+                      (["B", "partial", "0.1", "nan"], "'nan'"), (["B", "partial"], "'None'")):
+        write_csv(sweep_csv, [bad])
+        r = subprocess.run([tool, sweep, kept], capture_output=True, text=True)
+        check(r.returncode != 0 and f"{sweep_csv}: run B: slowest_cell_pillars {said}" in r.stderr
+              and len(r.stderr.splitlines()) == 1,
+              f"a bad number {said}: {r.returncode} {r.stderr}")
+    write_csv(sweep_csv, [["B", "partial"]], ["run", "state"])
     r = subprocess.run([tool, sweep, kept], capture_output=True, text=True)
-    check(r.returncode != 0 and "missing column(s) slowest_cell_pillars" in r.stderr,
-          f"a missing column: {r.returncode} {r.stderr}")
+    check(r.returncode != 0 and f"{sweep_csv}: missing column(s) slowest_cell_pillars" in r.stderr
+          and len(r.stderr.splitlines()) == 1, f"a missing column: {r.returncode} {r.stderr}")
 print("ok")

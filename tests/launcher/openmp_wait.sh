@@ -6,6 +6,7 @@
 # Usage: openmp_wait.sh DLD_RUN PROJECT_SOURCE_DIR
 set -euo pipefail
 run=$1 src=$2
+unset OMP_WAIT_POLICY GOMP_SPINCOUNT  # the defaults leg must see dld-run's own
 dir=$(mktemp -d /tmp/dld-openmp-wait.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
 . "$(dirname "$0")/netns.sh"  # touching_cells_scene, leg
