@@ -37,6 +37,16 @@ touching_cells_scene() {  # NAME K TIMEOUT_S: four cells within each other's con
     printf '[[cells.cell]]\ncentre_um = [%s, 2.4]\n' "$c"
   done
 }
+touching_runs() {  # NAME...: a folder each with the touching four-cell scene, one membrane process
+  local name
+  for name in "$@"; do
+    mkdir -p "$dir/$name"
+    touching_cells_scene "$name" 1 60.0 > "$dir/$name/scene.toml"
+  done
+}
+programs_said() {  # NAME PATTERN: what the fluid's and the membrane's logs of NAME say, one line
+  cat "$dir/$1/run-fluid.log" "$dir/$1/run-cells-0.log" | grep -o "$2" | tr '\n' ' '
+}
 leg() {  # NAME STEPS ARGS...: one leg of a run in $dir/NAME, its output shown if it fails
   local name=$1 n=$2
   shift 2

@@ -9,15 +9,9 @@ run=$1 src=$2
 unset OMP_WAIT_POLICY GOMP_SPINCOUNT  # the defaults leg must see dld-run's own
 dir=$(mktemp -d /tmp/dld-openmp-wait.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-. "$(dirname "$0")/netns.sh"  # touching_cells_scene, leg
-said() {  # NAME: each program's line on its threads, one after the other
-  cat "$dir/$1/run-fluid.log" "$dir/$1/run-cells-0.log" | grep -o "OpenMP threads (.*)" |
-    tr '\n' ' '
-}
-for name in defaults user; do
-  mkdir -p "$dir/$name"
-  touching_cells_scene "$name" 1 60.0 > "$dir/$name/scene.toml"
-done
+. "$(dirname "$0")/netns.sh"  # touching_runs, leg, programs_said
+said() { programs_said "$1" "OpenMP threads (.*)"; }
+touching_runs defaults user
 leg defaults 2
 expect="OpenMP threads (OMP_WAIT_POLICY PASSIVE, GOMP_SPINCOUNT 20000) "
 [ "$(said defaults)" = "$expect$expect" ] ||

@@ -12,15 +12,9 @@ run=$1 src=$2 steps=${3:-1000}
 round_off=1e-10
 dir=$(mktemp -d /tmp/dld-resume-threads.XXXXXX)
 trap 'rm -rf "$dir"' EXIT
-. "$(dirname "$0")/netns.sh"  # touching_cells_scene, leg
-threads_said() {  # NAME: the OpenMP threads each program's log names, one line
-  cat "$dir/$1/run-fluid.log" "$dir/$1/run-cells-0.log" | grep -o "[0-9]* OpenMP threads" |
-    tr '\n' ' '
-}
-for name in straight resumed; do
-  mkdir -p "$dir/$name"
-  touching_cells_scene "$name" 1 60.0 > "$dir/$name/scene.toml"
-done
+. "$(dirname "$0")/netns.sh"  # touching_runs, leg, programs_said
+threads_said() { programs_said "$1" "[0-9]* OpenMP threads"; }  # NAME: each program's threads
+touching_runs straight resumed
 leg straight "$steps"
 leg resumed $((steps / 2)) --threads 2
 said=$(threads_said resumed)
